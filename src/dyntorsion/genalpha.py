@@ -36,6 +36,7 @@ from __future__ import annotations
 
 import math
 import time
+import warnings
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -50,6 +51,7 @@ from ._numba import A1, A2, A3, I1, I2, JACOBIAN_SIGNATURE, LOAD_SIGNATURE, jit
 __all__ = [
     "parameters",
     "Scheme",
+    "SchemeWarning",
     "System",
     "Boundary",
     "Newton",
@@ -78,6 +80,10 @@ def parameters(lam: float) -> tuple[float, float, float]:
 QUADRATURES = ("trapezoidal", "midpoint")
 
 
+class SchemeWarning(UserWarning):
+    """A scheme setting that is allowed but known to be unsound (see the docs)."""
+
+
 @dataclass(frozen=True)
 class Scheme:
     """Generalised-alpha parameters in space and time and the load-vector quadrature.
@@ -100,6 +106,13 @@ class Scheme:
                 raise ValueError(f"{name}: {err}") from None
         if self.quadrature not in QUADRATURES:
             raise ValueError(f"quadrature={self.quadrature!r}; allowed: {QUADRATURES}")
+        if self.lam_s != -1.0:
+            warnings.warn(
+                f"lam_s={self.lam_s}: with eq (13) in space the scheme is a theta-method in s "
+                "that is only first order and, for the hyperbolic torsion rows, unstable "
+                "(spectral radius > 1) and ill-conditioned at small Courant numbers; "
+                "lam_s = -1 (the paper's choice) is the sound one",
+                SchemeWarning, stacklevel=3)
 
     @property
     def space(self) -> tuple[float, float, float]:
@@ -210,14 +223,23 @@ class Boundary:
 class Newton:
     """Options of the damped Newton solve of each step (NLEQ1-like).
 
-    tol : scaled correction norm at which a step is converged, RMS over all
-        unknowns of |dy| / max(|y|, yscale).
-    max_iter : corrections allowed per step.
-    lam_min : smallest damping factor before giving up.
-    reuse : keep the LU factors of the Jacobian while the simplified Newton
-        iteration contracts by at least ``theta_reuse`` per iteration (within a
-        step and across steps); False refactors at every iteration.
-    predictor : "rate" (y^{i-1} + dt y_t^{i-1}) or "constant" (y^{i-1}).
+    Parameters
+    ----------
+    tol
+        Scaled correction norm at which a step is converged: the RMS over all
+        unknowns of ``abs(dy) / max(abs(y), yscale)``.
+    max_iter
+        Corrections allowed per step.
+    lam_min
+        Smallest damping factor before giving up.
+    reuse
+        Keep the LU factors of the Jacobian while the simplified Newton iteration
+        contracts by at least ``theta_reuse`` per iteration (within a step and
+        across steps); False refactors at every iteration.
+    theta_reuse
+        Contraction factor below which the factors are kept.
+    predictor
+        ``"rate"`` (y + dt y_t of the previous level) or ``"constant"``.
     """
 
     tol: float = 1e-10
@@ -652,6 +674,155 @@ def consistent_rates(system: System, y0: np.ndarray, ds: float, q0: np.ndarray |
     return rhs @ np.linalg.pinv(system.M).T
 
 
+def algebraic_residual(system: System, y: np.ndarray, ds: float, scheme: Scheme = Scheme(),
+                       q: np.ndarray | None = None) -> np.ndarray:
+    """The rows without a time derivative (zero rows of M) at one time level, per cell.
+
+    For the Cosserat model these are the discrete inextensibility rows
+    (u_j - u_{j-1})/ds + <k x u - w x d3>_j.  Returns an array (N, n_alg).
+    """
+    alg = np.flatnonzero(~np.any(system.M != 0, axis=1))
+    _, b_s, _ = scheme.space
+    y = np.asarray(y, float)
+    dy = (y[1:] - y[:-1]) / ds
+    if scheme.quadrature == "trapezoidal":
+        Fn = system.load(y)
+        Fc = (1 - b_s) * Fn[1:] + b_s * Fn[:-1]
+    else:
+        Fc = system.load((1 - b_s) * y[1:] + b_s * y[:-1])
+    R = dy @ system.K.T + Fc
+    if q is not None:
+        R += (1 - b_s) * q[1:] + b_s * q[:-1]
+    return R[:, alg]
+
+
+def consistent_initial_state(system: System, y0: np.ndarray, *, length: float, left: Boundary,
+                             right: Boundary, scheme: Scheme = Scheme(), t0: float = 0.0,
+                             q0: np.ndarray | None = None, tol: float = 1e-13,
+                             max_iter: int = 20) -> np.ndarray:
+    """The state nearest to y0 (scaled least change) that satisfies the discrete
+    algebraic rows and both boundary conditions at t0 exactly (Gauss-Newton).
+
+    Needed for initial data that satisfy the continuous constraint only (a
+    manufactured solution, a measured shape); not for the paper's straight rod.
+    """
+    from scipy import sparse
+    from scipy.sparse.linalg import spsolve
+
+    y = np.array(y0, dtype=float)
+    n1, nf = y.shape
+    n = n1 - 1
+    ds = length / n
+    alg = np.flatnonzero(~np.any(system.M != 0, axis=1))
+    _, b_s, _ = scheme.space
+    ysc = np.asarray(system.yscale, float)
+    gL, gR = left.at(np.array([t0]))[0], right.at(np.array([t0]))[0]
+    D = sparse.diags(np.tile(ysc, n1))
+    for _ in range(max_iter):
+        R = algebraic_residual(system, y, ds, scheme, q0)
+        res = np.concatenate([left.rows @ y[0] - gL, R.ravel(), right.rows @ y[-1] - gR])
+        rows, cols, vals = [], [], []
+        nb = left.nb
+        for r in range(nb):
+            for f in range(nf):
+                if left.rows[r, f]:
+                    rows.append(r), cols.append(f), vals.append(left.rows[r, f])
+        na = alg.size
+        for j in range(n):
+            if scheme.quadrature == "trapezoidal":
+                Jn = system.load_jacobian(y[j + 1])
+                Jp = system.load_jacobian(y[j])
+            else:
+                Jn = Jp = system.load_jacobian((1 - b_s) * y[j + 1] + b_s * y[j])
+            for a, r in enumerate(alg):
+                row = nb + na * j + a
+                for f in range(nf):
+                    vn = system.K[r, f] / ds + (1 - b_s) * Jn[r, f]
+                    vp = -system.K[r, f] / ds + b_s * Jp[r, f]
+                    if vn:
+                        rows.append(row), cols.append(nf * (j + 1) + f), vals.append(vn)
+                    if vp:
+                        rows.append(row), cols.append(nf * j + f), vals.append(vp)
+        base = nb + na * n
+        for r in range(right.nb):
+            for f in range(nf):
+                if right.rows[r, f]:
+                    rows.append(base + r), cols.append(nf * n + f), vals.append(right.rows[r, f])
+        J = sparse.csr_matrix((vals, (rows, cols)), shape=(res.size, nf * n1)) @ D
+        # minimum-norm correction in scaled unknowns: dz = -J^T (J J^T)^{-1} res
+        dz = -(J.T @ spsolve((J @ J.T).tocsc(), res))
+        y += (D @ dz).reshape(n1, nf)
+        if np.max(np.abs(dz)) <= tol:
+            return y
+    raise ConvergenceError(t0, 0, max_iter, float(np.max(np.abs(res))),
+                           "consistent initial state: Gauss-Newton did not converge")
+
+
+def _setup(system: System, scheme: Scheme, n_cells: int, ds: float, dt: float, left: Boundary,
+           right: Boundary, y0: np.ndarray, a0: np.ndarray):
+    """Constants, work arrays and LU storage of the compiled kernels."""
+    nf = system.nf
+    ys, rs = np.asarray(system.yscale, float), np.asarray(system.rscale, float)
+    BLr, BRr = np.ascontiguousarray(left.rows, float), np.ascontiguousarray(right.rows, float)
+    blsc = np.abs(BLr) @ ys
+    brsc = np.abs(BRr) @ ys
+    if np.any(blsc == 0) or np.any(brsc == 0):
+        raise ValueError("a boundary row is all zeros")
+    co = scheme.coefficients(ds, dt)
+    cM, _, a_s, _, b_t = co[:5]
+    P = np.ascontiguousarray(cM * (1 - a_s) * system.M + (1 - b_t) / ds * system.K)
+    Q = np.ascontiguousarray(cM * a_s * system.M - (1 - b_t) / ds * system.K)
+    con = (np.ascontiguousarray(system.params, float), np.ascontiguousarray(system.M, float),
+           np.ascontiguousarray(system.K, float), P, Q, co, ys, rs, BLr, blsc, BRr, brsc)
+    N1 = n_cells + 1
+    nq = N1 if scheme.quadrature == "trapezoidal" else n_cells
+    ws = (
+        y0.copy(), a0.copy(), y0.copy(), y0.copy(),                   # yo ao y yt
+        np.zeros(nf * N1), np.zeros(nf * N1),                          # r rt
+        np.zeros((N1, nf)), np.zeros((N1, nf)),                        # dx dxb
+        np.zeros((nq, nf)), np.zeros((nq, nf, nf)),                    # Fn dFn
+        np.zeros((N1, nf)), np.zeros((n_cells, nf)),                   # Fo c
+        np.zeros((n_cells, nf)), np.zeros((N1, nf)), np.zeros(nf),     # ybo z ytmp
+        np.zeros((n_cells, nf, nf)), np.zeros((n_cells, nf, nf)),      # Ablk Bblk
+        BLr * ys / blsc[:, None], BRr * ys / brsc[:, None],            # scaled BC rows
+    )
+    fac = _abd.allocate(n_cells, nf, left.nb)
+    return con, ws, fac
+
+
+_ITERATION_SIGNATURE = numba.types.float64(
+    numba.types.FunctionType(LOAD_SIGNATURE), numba.types.FunctionType(JACOBIAN_SIGNATURE),
+    _CON, A1, A1, _WS, _FAC, numba.types.int64)
+
+
+@jit(signature=_ITERATION_SIGNATURE)
+def _full_newton_iterations(F, dF, con, gL, gR, ws, fac, repeats):
+    """``repeats`` full Newton iterations at ws[2]: residual, Jacobian, LU, solve."""
+    res = 0.0
+    for _ in range(repeats):
+        res = _residual(F, dF, con, gL, gR, ws[2], ws, ws[4], True)
+        _factor(con, ws, fac)
+        _solve_neg(fac, ws[4], ws[6])
+    return res
+
+
+def newton_iteration_kernel(system: System, scheme: Scheme, n_cells: int, length: float,
+                            dt: float, left: Boundary, right: Boundary, y: np.ndarray):
+    """A callable ``f(repeats)`` doing that many full Newton iterations of a step from
+    state y inside compiled code, and the step's scaled Jacobian blocks and
+    right-hand side (for benchmarks against LAPACK)."""
+    y = np.ascontiguousarray(y, float)
+    con, ws, fac = _setup(system, scheme, n_cells, length / n_cells, dt, left, right, y,
+                          np.zeros_like(y))
+    gL, gR = left.at(np.array([dt]))[0], right.at(np.array([dt]))[0]
+
+    def iteration(repeats: int = 1) -> float:
+        return _full_newton_iterations(system.F, system.dF, con, gL, gR, ws, fac, repeats)
+
+    iteration(1)
+    return iteration, (ws[17], ws[15], ws[16], ws[18]), ws[4]
+
+
 def integrate(
     system: System,
     *,
@@ -682,7 +853,12 @@ def integrate(
     ----------
     n_cells : number of cells N >= 2 (nodes s_j = j * length / N).
     dt : time step > 0; the run takes ceil((t_end - t0) / dt) steps.
-    y0 : initial state (N+1, nf), finite.
+    y0 : initial state (N+1, nf), finite.  At lam_t = -1 the rows without a time
+        derivative (inextensibility) obey R^i = -R^{i-1} in time, so a y0 that
+        violates their discrete form keeps an undamped (-1)^i oscillation that
+        resonates with the multiplier n; pass such data through
+        :func:`consistent_initial_state` first.  The paper's straight initial
+        states satisfy the discrete equations exactly.
     left, right : boundary rows at s = 0 and s = length (nb_left + nb_right = nf).
     y_t0 : initial time derivative (N+1, nf), or "consistent" (from the equations,
         see :func:`consistent_rates`), or "zero".  Irrelevant at lam_t = -1.
@@ -749,31 +925,8 @@ def integrate(
         if a0.shape != y0.shape or not np.all(np.isfinite(a0)):
             raise ValueError(f"y_t0 must be a finite array of shape {y0.shape}")
 
-    co = scheme.coefficients(ds, dt)
-    cM, _, a_s, b_s, b_t = co[:5]
-    P = np.ascontiguousarray(cM * (1 - a_s) * system.M + (1 - b_t) / ds * system.K)
-    Q = np.ascontiguousarray(cM * a_s * system.M - (1 - b_t) / ds * system.K)
-    ys, rs = np.asarray(system.yscale, float), np.asarray(system.rscale, float)
-    BLr, BRr = np.ascontiguousarray(left.rows, float), np.ascontiguousarray(right.rows, float)
-    blsc = np.abs(BLr) @ ys
-    brsc = np.abs(BRr) @ ys
-    if np.any(blsc == 0) or np.any(brsc == 0):
-        raise ValueError("a boundary row is all zeros")
-    con = (np.ascontiguousarray(system.params, float), np.ascontiguousarray(system.M, float),
-           np.ascontiguousarray(system.K, float), P, Q, co, ys, rs, BLr, blsc, BRr, brsc)
+    con, ws, fac = _setup(system, scheme, n_cells, ds, dt, left, right, y0, a0)
     N1 = n_cells + 1
-    nq = N1 if scheme.quadrature == "trapezoidal" else n_cells
-    ws = (
-        y0.copy(), a0.copy(), y0.copy(), y0.copy(),                   # yo ao y yt
-        np.zeros(nf * N1), np.zeros(nf * N1),                          # r rt
-        np.zeros((N1, nf)), np.zeros((N1, nf)),                        # dx dxb
-        np.zeros((nq, nf)), np.zeros((nq, nf, nf)),                    # Fn dFn
-        np.zeros((N1, nf)), np.zeros((n_cells, nf)),                   # Fo c
-        np.zeros((n_cells, nf)), np.zeros((N1, nf)), np.zeros(nf),     # ybo z ytmp
-        np.zeros((n_cells, nf, nf)), np.zeros((n_cells, nf, nf)),      # Ablk Bblk
-        BLr * ys / blsc[:, None], BRr * ys / brsc[:, None],            # scaled BC rows
-    )
-    fac = _abd.allocate(n_cells, nf, left.nb)
     nt = newton.packed()
     state = np.zeros(1, dtype=np.int64)
 

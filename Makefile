@@ -1,0 +1,46 @@
+# dyntorsion: `make test` and `make paper` work on a fresh machine with Python >= 3.11.
+PYTHON ?= python3
+VENV   := .venv
+BIN    := $(VENV)/bin
+PY     := $(BIN)/python
+
+.PHONY: test test-all paper docs bench lint clean distclean
+
+$(PY):
+	$(PYTHON) -m venv $(VENV)
+	$(PY) -m pip install --quiet --upgrade pip
+
+$(VENV)/.test-installed: pyproject.toml | $(PY)
+	$(PY) -m pip install --quiet -e '.[test]'
+	touch $@
+
+$(VENV)/.docs-installed: pyproject.toml | $(PY)
+	$(PY) -m pip install --quiet -e '.[test,docs]'
+	touch $@
+
+## test: the fast test suite (what CI runs)
+test: $(VENV)/.test-installed
+	$(PY) -m pytest -m "not slow" -q
+
+## test-all: every test, including the long `slow` ones
+test-all: $(VENV)/.test-installed
+	$(PY) -m pytest -q
+
+## paper: regenerate every figure and table and build the documentation site
+paper: $(VENV)/.docs-installed
+	$(PY) -m sphinx -W --keep-going -b html docs docs/_build/html
+	@echo
+	@echo "Site built: open docs/_build/html/index.html"
+
+docs: paper
+
+## bench: engine benchmarks (timings are printed, never asserted)
+bench: $(VENV)/.test-installed
+	$(PY) benchmarks/bench_engine.py
+
+clean:
+	rm -rf docs/_build docs/jupyter_execute paper/figures .pytest_cache
+	find . -name __pycache__ -type d -prune -not -path './$(VENV)/*' -exec rm -rf {} +
+
+distclean: clean
+	rm -rf $(VENV)

@@ -1,0 +1,308 @@
+"""The generalised-alpha engine of section 3: parameters, accuracy, stability, errors."""
+
+import numpy as np
+import pytest
+
+from dyntorsion import Rod
+from dyntorsion import genalpha as ga
+from dyntorsion.model import IDX, Cosserat
+from dyntorsion.verification import Manufactured
+from dyntorsion.waves import Torsion
+
+
+def slope(h, err):
+    """Least-squares order of convergence over a whole ladder."""
+    return float(np.polyfit(np.log(h), np.log(err), 1)[0])
+
+
+# ------------------------------------------------------------------ eq (13)
+@pytest.mark.parametrize("lam", [-1.0, -0.75, -0.5, -0.2, 0.0])
+def test_parameters_eq13(lam):
+    a, b, g = ga.parameters(lam)
+    assert b + g == pytest.approx(1.0, abs=1e-15)  # hence zeta = 0
+    # Jansen et al.: gamma = 1/2 + alpha_m - alpha_f with alpha_m = 1 - a, alpha_f = 1 - b
+    assert g == pytest.approx(0.5 + (1 - a) - (1 - b), abs=1e-15)
+
+
+def test_parameters_endpoints():
+    assert ga.parameters(-1.0) == (0.5, 0.5, 0.5)
+    assert ga.parameters(0.0) == (-0.5, 0.0, 1.0)
+
+
+@pytest.mark.parametrize("lam", [0.5, -1.0001, 1.0, float("nan")])
+def test_parameters_reject_outside_range(lam):
+    with pytest.raises(ValueError, match=r"\[-1, 0\]"):
+        ga.parameters(lam)
+
+
+def test_scheme_names_the_bad_parameter():
+    with pytest.raises(ValueError, match="lam_t"):
+        ga.Scheme(lam_t=0.5)
+    with pytest.raises(ValueError, match="quadrature"):
+        ga.Scheme(quadrature="simpson")
+    with pytest.warns(ga.SchemeWarning, match="lam_s"):
+        ga.Scheme(lam_s=-0.5)
+
+
+# ------------------------------------------------------------------ order of accuracy
+@pytest.mark.parametrize("lam_t", [-1.0, -0.5, 0.0])
+def test_second_order_in_space_12_fields(lam_t):
+    """Manufactured solution of the full 12-field system: error ~ ds^2 (lam_s = -1)."""
+    m = Manufactured.random(amplitude=0.1)
+    T = 0.25 * m.model.rod.L / m.model.scales()[0][0]
+    n = np.array([8, 16, 32, 64])
+    err = [m.error(m.solve(int(k), T / 256, T, ga.Scheme(-1.0, lam_t))) for k in n]
+    assert slope(1.0 / n, err) == pytest.approx(2.0, abs=0.1)
+
+
+@pytest.mark.parametrize("lam_t", [-1.0, -0.5, 0.0])
+def test_second_order_in_time_12_fields(lam_t):
+    """Same system, fixed grid: distance to a dt/16-finer run falls as dt^2 for every lam_t."""
+    m = Manufactured.random(amplitude=0.1, frequency=8.0)
+    ys = m.model.scales()[0]
+    T = 0.25 * m.model.rod.L / ys[0]
+    scheme = ga.Scheme(-1.0, lam_t)
+    ref = m.solve(32, T / 2048, T, scheme).y
+    dts = T / np.array([16, 32, 64, 128])
+    err = [np.max(np.abs(m.solve(32, dt, T, scheme).y - ref) / ys) for dt in dts]
+    assert slope(dts, err) == pytest.approx(2.0, abs=0.1)
+
+
+def test_second_order_combined_full_amplitude():
+    """ds and dt refined together, large-amplitude nonlinear solution, against the exact one."""
+    m = Manufactured.random(amplitude=1.0)
+    T = 0.25 * m.model.rod.L / m.model.scales()[0][0]
+    n = np.array([8, 16, 32, 64])
+    err = [m.error(m.solve(int(k), T / (4 * k), T)) for k in n]
+    assert slope(1.0 / n, err) == pytest.approx(2.0, abs=0.1)
+
+
+def _smooth_wave(c, kx=2.3):
+    w = c * kx
+
+    def exact(s, t):
+        s = np.asarray(s)[:, None]
+        return np.concatenate(
+            [np.sin(kx * s + 0.3) * np.cos(w * t + 0.1),
+             c * np.cos(kx * s + 0.3) * np.sin(w * t + 0.1)], axis=1)
+
+    return exact
+
+
+@pytest.mark.parametrize("lam_t", [-1.0, -0.5])
+def test_second_order_in_time_wave_exact(lam_t):
+    """A travelling torsional wave with exact boundary data, fine grid: error ~ dt^2."""
+    model = Torsion()
+    system = model.system()
+    exact = _smooth_wave(model.rod.c)
+    T, n = 3.0 / model.rod.c, 400
+    s = np.linspace(0, 1, n + 1)
+    left = ga.Boundary.fields(system, ["k3"], lambda t: np.array([exact([0.0], x)[0, :1] for x in t]))
+    right = ga.Boundary.fields(system, ["w3"], lambda t: np.array([exact([1.0], x)[0, 1:] for x in t]))
+    dts = T / np.array([16, 32, 64, 128])
+    err = []
+    for dt in dts:
+        run = ga.integrate(system, n_cells=n, length=1.0, dt=dt, t_end=T, y0=exact(s, 0.0),
+                           y_t0=(exact(s, 1e-7) - exact(s, -1e-7)) / 2e-7, left=left,
+                           right=right, scheme=ga.Scheme(-1.0, lam_t))
+        err.append(np.max(np.abs(run.y - exact(s, T)) / model.scales()[0]))
+    assert slope(dts, err) == pytest.approx(2.0, abs=0.1)
+
+
+# ------------------------------------------------------------------ energy and stability
+def _pulse_run(lam_t, courant, steps, n=60):
+    model = Torsion()
+    system = model.system()
+    s = np.linspace(0, 1, n + 1)
+    y0 = np.zeros((n + 1, 2))
+    y0[:, 0] = np.exp(-(((s - 0.4) / 0.08) ** 2))
+    dt = courant * (1.0 / n) / model.rod.c
+    every = steps // 10
+    run = ga.integrate(system, n_cells=n, length=1.0, dt=dt, t_end=steps * dt, y0=y0,
+                       left=ga.Boundary.fields(system, ["w3"]),
+                       right=ga.Boundary.fields(system, ["w3"]),
+                       scheme=ga.Scheme(-1.0, lam_t),
+                       snapshots=list(dt * np.arange(0, steps + 1, every)))
+    energy = np.array([model.energy(y, 1.0 / n) for y in run.snapshots])
+    return run, energy
+
+
+def test_energy_conserved_to_roundoff_at_lambda_minus_one():
+    run, energy = _pulse_run(-1.0, courant=0.8, steps=10_000)
+    assert run.steps == 10_000
+    assert np.max(np.abs(energy / energy[0] - 1)) < 1e-12
+
+
+def test_energy_decays_at_lambda_zero():
+    _, energy = _pulse_run(0.0, courant=2.0, steps=2_000)
+    assert np.all(np.diff(energy) <= 1e-14 * energy[0])
+    assert energy[-1] < 0.9 * energy[0]
+
+
+@pytest.mark.parametrize("lam_t", [-1.0, -0.5, 0.0])
+@pytest.mark.parametrize("courant", [0.1, 1.0, 10.0, 100.0])
+def test_bounded_over_courant_numbers(lam_t, courant):
+    run, energy = _pulse_run(lam_t, courant, steps=1_000)
+    assert np.all(np.isfinite(run.y))
+    assert np.max(energy) <= energy[0] * (1 + 1e-10)
+
+
+def test_spatial_damping_is_unstable():
+    """lam_s > -1 (eq 13 in space) amplifies: energy grows or the step matrix is singular."""
+    model = Torsion()
+    system = model.system()
+    n = 60
+    s = np.linspace(0, 1, n + 1)
+    y0 = np.zeros((n + 1, 2))
+    y0[:, 0] = np.exp(-(((s - 0.4) / 0.08) ** 2))
+    with pytest.warns(ga.SchemeWarning):
+        scheme = ga.Scheme(-0.5, -1.0)
+    bc = ga.Boundary.fields(system, ["w3"])
+    dt = 0.1 / n / model.rod.c
+    with pytest.raises(ga.ConvergenceError, match="t="):
+        ga.integrate(system, n_cells=n, length=1.0, dt=dt, t_end=100 * dt, y0=y0, left=bc,
+                     right=bc, scheme=scheme)
+    dt = 100.0 / n / model.rod.c
+    run = ga.integrate(system, n_cells=n, length=1.0, dt=dt, t_end=2000 * dt, y0=y0, left=bc,
+                       right=bc, scheme=scheme, snapshots=[0.0, 2000 * dt])
+    e0, e1 = (model.energy(y, 1.0 / n) for y in run.snapshots)
+    assert e1 > 1.05 * e0
+
+
+# ------------------------------------------------------------------ quadrature rules
+def _buckling_like(quadrature, n=16, dt=2e-3, t_end=0.3):
+    """Beyond the critical twist with a large seed: the rod bends within 0.3 s."""
+    model = Cosserat(Rod())
+    system = model.system()
+    kappa0, a = 20.0, 20.0
+    y0 = np.zeros((n + 1, 12))
+    y0[:, IDX["k3"]] = kappa0
+    left = ga.Boundary(ga.Boundary.fields(system, ["u1", "u2", "u3", "w1", "w2", "k3"]).rows,
+                       lambda t: np.outer(kappa0 + a * t, [0, 0, 0, 0, 0, 1.0]))
+    right = ga.Boundary.fields(system, ["w1", "w2", "w3", "u1", "u2", "n3"])
+    f = np.zeros((n + 1, 3))
+    f[:, 0] = 1e-4
+    times = list(np.arange(0, t_end + 1e-12, 0.05))
+    run = ga.integrate(system, n_cells=n, length=1.0, dt=dt, t_end=t_end, y0=y0, left=left,
+                       right=right, scheme=ga.Scheme(quadrature=quadrature),
+                       source=(model.external_force(f), None), snapshots=times,
+                       newton=ga.Newton(tol=1e-12))
+    return model, system, run
+
+
+def test_trapezoidal_rule_keeps_inextensibility_at_every_level():
+    model, system, run = _buckling_like("trapezoidal")
+    ds = 1.0 / 16
+    worst = max(np.max(np.abs(ga.algebraic_residual(system, y, ds))) for y in run.snapshots)
+    scale = model.scales()[1][9]
+    assert worst / scale < 1e-9
+
+
+def test_midpoint_rule_keeps_inextensibility_only_on_average():
+    model, system, run = _buckling_like("midpoint")
+    ds = 1.0 / 16
+    worst = max(np.max(np.abs(ga.algebraic_residual(system, y, ds, ga.Scheme(
+        quadrature="midpoint")))) for y in run.snapshots)
+    assert worst / model.scales()[1][9] > 1e-6  # not satisfied at the levels themselves
+    assert np.max(np.abs(run.snapshots[-1][:, :3])) > 1e-2  # the rod is really moving
+
+
+# ------------------------------------------------------------------ bad input
+def _tiny_problem():
+    system = Torsion().system()
+    n = 4
+    return system, dict(n_cells=n, length=1.0, dt=1e-3, t_end=1e-2, y0=np.zeros((n + 1, 2)),
+                        left=ga.Boundary.fields(system, ["w3"]),
+                        right=ga.Boundary.fields(system, ["w3"]))
+
+
+@pytest.mark.parametrize(
+    "change,match",
+    [({"dt": 0.0}, "dt="), ({"dt": -1.0}, "dt="), ({"n_cells": 1}, "n_cells="),
+     ({"t_end": 0.0}, "t_end="), ({"length": float("nan")}, "length=")],
+)
+def test_bad_input_is_named(change, match):
+    system, kw = _tiny_problem()
+    kw.update(change)
+    if "n_cells" in change:
+        kw["y0"] = np.zeros((change["n_cells"] + 1, 2))
+    with pytest.raises(ValueError, match=match):
+        ga.integrate(system, **kw)
+
+
+def test_nan_initial_state_is_rejected():
+    system, kw = _tiny_problem()
+    kw["y0"][2, 0] = np.nan
+    with pytest.raises(ValueError, match="y0 contains NaN"):
+        ga.integrate(system, **kw)
+
+
+def test_wrong_shapes_are_rejected():
+    system, kw = _tiny_problem()
+    kw["y0"] = np.zeros((3, 2))
+    with pytest.raises(ValueError, match="y0 has shape"):
+        ga.integrate(system, **kw)
+    system, kw = _tiny_problem()
+    kw["right"] = ga.Boundary.fields(system, ["w3", "k3"])
+    with pytest.raises(ValueError, match="nb_left \\+ nb_right"):
+        ga.integrate(system, **kw)
+
+
+def test_newton_options_are_checked():
+    with pytest.raises(ValueError, match="tol"):
+        ga.Newton(tol=0.0)
+    with pytest.raises(ValueError, match="max_iter"):
+        ga.Newton(max_iter=0)
+    with pytest.raises(ValueError, match="predictor"):
+        ga.Newton(predictor="quadratic")
+
+
+def test_failed_newton_reports_time_step_iterations_residual():
+    system, kw = _tiny_problem()
+    kw["left"] = ga.Boundary(kw["left"].rows, lambda t: np.where(t > 4.5e-3, np.nan, 0.0)[:, None])
+    with pytest.raises(ValueError, match="not finite"):
+        ga.integrate(system, **kw)
+    err = ga.ConvergenceError(0.25, 250, 7, 3.5e-2, "damping")
+    assert (err.t, err.step, err.iterations, err.residual) == (0.25, 250, 7, 3.5e-2)
+    assert "t=0.25" in str(err) and "step 250" in str(err) and "7 iterations" in str(err)
+
+
+def test_max_iter_failure_raises_convergence_error():
+    """One allowed correction cannot converge a nonlinear step from a poor predictor."""
+    model = Cosserat(Rod())
+    system = model.system()
+    n = 8
+    y0 = np.zeros((n + 1, 12))
+    left = ga.Boundary(ga.Boundary.fields(system, ["u1", "u2", "u3", "w1", "w2", "k3"]).rows,
+                       lambda t: np.outer(500.0 * t, [1e-3, 0, 0, 0, 0, 1.0]))
+    right = ga.Boundary.fields(system, ["w1", "w2", "w3", "u1", "u2", "n3"])
+    with pytest.raises(ga.ConvergenceError) as info:
+        ga.integrate(system, n_cells=n, length=1.0, dt=1e-2, t_end=0.1, y0=y0, left=left,
+                     right=right, newton=ga.Newton(max_iter=1, reuse=False))
+    e = info.value
+    assert e.step >= 1 and e.t == pytest.approx(e.step * 1e-2) and e.iterations >= 1
+    assert np.isfinite(e.residual)
+
+
+# ------------------------------------------------------------------ run bookkeeping
+def test_records_snapshots_and_stop():
+    model = Torsion()
+    system = model.system()
+    n = 20
+    s = np.linspace(0, 1, n + 1)
+    y0 = np.zeros((n + 1, 2))
+    y0[:, 0] = np.exp(-(((s - 0.5) / 0.1) ** 2))
+    dt = 1e-4
+    kw = dict(n_cells=n, length=1.0, dt=dt, t_end=100 * dt, y0=y0,
+              left=ga.Boundary.fields(system, ["w3"]), right=ga.Boundary.fields(system, ["w3"]))
+    full = ga.integrate(system, record={"k_mid": ("k3", 10)}, **kw)
+    sparse = ga.integrate(system, record={"k_mid": ("k3", 10)}, record_every=7,
+                          snapshots=[0.0, 50 * dt], check_every=13, **kw)
+    assert full.t.size == 101 and np.allclose(full.t, dt * np.arange(101))
+    assert np.allclose(sparse.t, dt * np.r_[0, np.arange(7, 101, 7)])
+    assert np.array_equal(sparse["k_mid"], full["k_mid"][np.r_[0, np.arange(7, 101, 7)]])
+    assert np.array_equal(sparse.y, full.y)  # chunking does not change the numbers
+    assert sparse.snapshot(50 * dt)[10, 0] == full["k_mid"][50]
+    stopped = ga.integrate(system, stop=lambda t, y: "half" if t >= 50 * dt else None,
+                           check_every=10, **kw)
+    assert stopped.stopped == "half" and stopped.steps == 50
