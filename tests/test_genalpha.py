@@ -306,3 +306,26 @@ def test_records_snapshots_and_stop():
     stopped = ga.integrate(system, stop=lambda t, y: "half" if t >= 50 * dt else None,
                            check_every=10, **kw)
     assert stopped.stopped == "half" and stopped.steps == 50
+
+
+def test_failed_step_is_retried_and_gives_the_same_answer():
+    """A step the first Newton solve gives up on is retried; the result does not move."""
+    model, system, run = _buckling_like("trapezoidal", dt=2e-3, t_end=0.3)
+    ref_model, _, ref = _buckling_like("trapezoidal", dt=2e-3, t_end=0.3)
+    assert np.array_equal(run.y, ref.y)  # deterministic
+    scheme = ga.Scheme(-1.0, -0.9)
+    n = 16
+    kappa0, a = 20.0, 20.0
+    y0 = np.zeros((n + 1, 12))
+    y0[:, IDX["k3"]] = kappa0
+    left = ga.Boundary(ga.Boundary.fields(system, ["u1", "u2", "u3", "w1", "w2", "k3"]).rows,
+                       lambda t: np.outer(kappa0 + a * t, [0, 0, 0, 0, 0, 1.0]))
+    right = ga.Boundary.fields(system, ["w1", "w2", "w3", "u1", "u2", "n3"])
+    f = np.zeros((n + 1, 3))
+    f[:, 0] = 1e-4
+    kw = dict(n_cells=n, length=1.0, dt=2e-3, t_end=0.4, y0=y0, left=left, right=right,
+              scheme=scheme, source=(model.external_force(f), None))
+    reuse = ga.integrate(system, newton=ga.Newton(tol=1e-12), **kw)
+    full = ga.integrate(system, newton=ga.Newton(tol=1e-12, reuse=False), **kw)
+    assert reuse.retries.sum() >= 1  # this scene needs the fallback at dt = 2e-3
+    assert np.max(np.abs(reuse.y - full.y) / model.scales()[0]) < 1e-8

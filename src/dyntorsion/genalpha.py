@@ -239,7 +239,11 @@ class Newton:
     theta_reuse
         Contraction factor below which the factors are kept.
     predictor
-        ``"rate"`` (y + dt y_t of the previous level) or ``"constant"``.
+        ``"constant"`` (the previous level, default) or ``"rate"`` (y + dt y_t of
+        the previous level).  At lam_t = -1 the trapezoidal rates alternate in
+        sign after any incompatibility of initial and boundary data (the ramp
+        of eq 30 has one), and the rate predictor then starts Newton so far off
+        that it fails; the constant predictor does not.
     """
 
     tol: float = 1e-10
@@ -247,7 +251,7 @@ class Newton:
     lam_min: float = 1e-4
     reuse: bool = True
     theta_reuse: float = 0.25
-    predictor: str = "rate"
+    predictor: str = "constant"
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.tol) and 0 < self.tol < 1):
@@ -584,6 +588,8 @@ def _march(F, dF, con, gL, gR, qs, qt, qf, ws, fac, nt, state, rec_f, rec_n, rec
     use_qf = qf.shape[0] > 0
     nsteps = gL.shape[0] - 1
     nrec = 0
+    nt_retry = nt.copy()
+    nt_retry[4] = 0.0
     for k in range(nsteps):
         if use_qf:
             _prepare_step(F, con, ws, qs, qt[k], qt[k + 1], qf[k], qf[k + 1], True)
@@ -598,7 +604,19 @@ def _march(F, dF, con, gL, gR, qs, qt, qf, ws, fac, nt, state, rec_f, rec_n, rec
         stats[k, 2] = info[3]
         stats[k, 3] = info[4]
         if status != 0:
-            return k
+            # one retry: the other predictor, a fresh Jacobian at every iteration
+            for j in range(N1):
+                for f in range(nf):
+                    y[j, f] = yo[j, f] if rate else yo[j, f] + dt * ao[j, f]
+            state[0] = 0
+            status = _newton(F, dF, con, gL[k + 1], gR[k + 1], ws, fac, nt_retry, state, info)
+            stats[k, 0] += info[1]
+            stats[k, 1] += info[2]
+            stats[k, 2] += info[3]
+            stats[k, 3] = info[4]
+            stats[k, 4] = 1.0
+            if status != 0:
+                return k
         for j in range(N1):
             for f in range(nf):
                 ao[j, f] = (y[j, f] - yo[j, f]) / (g_t * dt) - (1.0 - g_t) / g_t * ao[j, f]
@@ -619,6 +637,8 @@ class Run:
     traces : name -> array over ``t`` (the recorded fields at their nodes).
     snapshot_times, snapshots : whole fields (n_snap, N+1, nf) at chosen times.
     iterations, residual_evaluations, factorisations : Newton statistics per step.
+    retries : 1 for a step whose first Newton solve failed and was retried (from
+        the other predictor, refactorising at every iteration), else 0.
     y, y_t : the state and its time derivative at the last completed level.
     stopped : why the run ended ("t_end" or the reason returned by ``stop``).
     """
@@ -632,6 +652,7 @@ class Run:
     residual_evaluations: np.ndarray
     factorisations: np.ndarray
     residuals: np.ndarray
+    retries: np.ndarray
     y: np.ndarray
     y_t: np.ndarray
     t_final: float
@@ -950,7 +971,7 @@ def integrate(
     if 0 in snap_steps:
         snap_t.append(t0)
         snap_y.append(y0.copy())
-    stats = np.zeros((n_steps, 4))
+    stats = np.zeros((n_steps, 5))
     info = np.zeros(5)
     stopped = "t_end"
     done = 0
@@ -977,7 +998,8 @@ def integrate(
                 k_fail = k0 + completed + 1
                 raise ConvergenceError(
                     float(times[k_fail]), k_fail, int(info[1]), float(info[4]),
-                    _FAIL.get(int(info[0]), "unknown"))
+                    _FAIL.get(int(info[0]), "unknown")
+                    + " (also after a retry from the other predictor with a fresh Jacobian)")
             done = k1
             rec_t.extend(t0 + dt * rec_steps)
             rec_vals.extend(rec_out)
@@ -1007,6 +1029,7 @@ def integrate(
         residual_evaluations=st[:, 1].astype(int),
         factorisations=st[:, 2].astype(int),
         residuals=st[:, 3].copy(),
+        retries=st[:, 4].astype(int),
         y=ws[0].copy(),
         y_t=ws[1].copy(),
         t_final=float(times[done]),
