@@ -633,14 +633,23 @@ def _march(F, dF, con, gL, gR, qs, qt, qf, ws, fac, nt, state, rec_f, rec_n, rec
 class Run:
     """The outcome of :func:`integrate`.
 
-    t : times at which the traces were recorded (t_0 first).
-    traces : name -> array over ``t`` (the recorded fields at their nodes).
-    snapshot_times, snapshots : whole fields (n_snap, N+1, nf) at chosen times.
-    iterations, residual_evaluations, factorisations : Newton statistics per step.
-    retries : 1 for a step whose first Newton solve failed and was retried (from
-        the other predictor, refactorising at every iteration), else 0.
-    y, y_t : the state and its time derivative at the last completed level.
-    stopped : why the run ended ("t_end" or the reason returned by ``stop``).
+    Attributes
+    ----------
+    t
+        Times at which the traces were recorded (t_0 first).
+    traces
+        Name -> array over ``t`` (the recorded fields at their nodes).
+    snapshot_times, snapshots
+        Whole fields (n_snap, N+1, nf) at chosen times.
+    iterations, residual_evaluations, factorisations
+        Newton statistics per step.
+    retries
+        1 for a step whose first Newton solve failed and was retried (from the
+        other predictor, refactorising at every iteration), else 0.
+    y, y_t
+        The state and its time derivative at the last completed level.
+    stopped
+        Why the run ended (``"t_end"`` or the reason returned by ``stop``).
     """
 
     s: np.ndarray
