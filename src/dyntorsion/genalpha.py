@@ -696,9 +696,8 @@ def consistent_rates(system: System, y0: np.ndarray, ds: float, q0: np.ndarray |
     y_s is taken by second-order finite differences.  Fields whose rows carry no
     time derivative (zero rows of M) get the minimum-norm rate.
     """
-    ys_ = np.gradient(y0, ds, axis=0, edge_order=2) if y0.shape[0] > 2 else np.diff(
-        y0, axis=0).repeat(2, axis=0)[: y0.shape[0]] / ds
-    rhs = -(ys_ @ system.K.T + system.load(y0))
+    y_s = np.gradient(y0, ds, axis=0, edge_order=2)
+    rhs = -(y_s @ system.K.T + system.load(y0))
     if q0 is not None:
         rhs -= q0
     return rhs @ np.linalg.pinv(system.M).T

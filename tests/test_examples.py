@@ -1,0 +1,20 @@
+"""Examples in the README run, and do what they say."""
+
+import pathlib
+import re
+
+import numpy as np
+
+ROOT = pathlib.Path(__file__).resolve().parents[1]
+
+
+def test_readme_example_runs():
+    text = (ROOT / "README.md").read_text()
+    blocks = re.findall(r"```python\n(.*?)```", text, flags=re.S)
+    assert blocks, "README has no python example"
+    namespace: dict = {}
+    exec(compile(blocks[0], "README.md", "exec"), namespace)  # noqa: S102
+    run = namespace["run"]
+    assert run.t[-1] == 3.0
+    # the 1e-8 N/m seed has grown: the free end moves axially
+    assert abs(run["u3_end"][-1]) > 1e-4 and np.all(np.isfinite(run["u3_end"]))
