@@ -284,12 +284,15 @@ class ConvergenceError(RuntimeError):
 
     Attributes: ``t`` (time level being solved for), ``step`` (its index),
     ``iterations`` (corrections tried), ``residual`` (RMS scaled residual at the
-    last iterate), ``reason``.
+    last iterate), ``reason``, and ``run``: the :class:`Run` of every step completed
+    before the failure (set by :func:`integrate`; nothing computed is lost).
     """
 
-    def __init__(self, t: float, step: int, iterations: int, residual: float, reason: str):
+    def __init__(self, t: float, step: int, iterations: int, residual: float, reason: str,
+                 run: Run | None = None):
         self.t, self.step, self.iterations, self.residual, self.reason = (
             t, step, iterations, residual, reason)
+        self.run = run
         super().__init__(
             f"Newton failed at t={t:.10g} (step {step}) after {iterations} iterations, "
             f"residual norm {residual:.3e}: {reason}")
@@ -982,6 +985,7 @@ def integrate(
     stats = np.zeros((n_steps, 5))
     info = np.zeros(5)
     stopped = "t_end"
+    failure = None
     done = 0
     if progress is None:
         progress = n_steps * N1 * nf > 5e7
@@ -1004,10 +1008,16 @@ def integrate(
                                info)
             if completed < k1 - k0:
                 k_fail = k0 + completed + 1
-                raise ConvergenceError(
+                failure = ConvergenceError(
                     float(times[k_fail]), k_fail, int(info[1]), float(info[4]),
                     _FAIL.get(int(info[0]), "unknown")
                     + " (also after a retry from the other predictor with a fresh Jacobian)")
+                done = k0 + completed
+                kept = rec_steps <= done
+                rec_t.extend(t0 + dt * rec_steps[kept])
+                rec_vals.extend(rec_out[kept])
+                stopped = f"failed: {failure}"
+                break
             done = k1
             rec_t.extend(t0 + dt * rec_steps)
             rec_vals.extend(rec_out)
@@ -1024,10 +1034,10 @@ def integrate(
     finally:
         if bar is not None:
             bar.close()
-    rv = np.array(rec_vals)
+    rv = np.array(rec_vals).reshape(len(rec_vals), len(rec_f))
     traces = {name: rv[:, m].copy() for m, name in enumerate(rec)}
     st = stats[:done]
-    return Run(
+    result = Run(
         s=s,
         t=np.array(rec_t),
         traces=traces,
@@ -1052,3 +1062,7 @@ def integrate(
             "newton": newton.__dict__.copy(), **(meta or {}),
         },
     )
+    if failure is not None:
+        failure.run = result
+        raise failure
+    return result

@@ -1,0 +1,301 @@
+"""Torsional buckling (section 6): the static critical twist (eqs 31-32), the
+dynamic buckling scene (boundary conditions of eq 30) and the onset of buckling.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import asdict, dataclass, field
+from typing import Any
+
+import mpmath
+import numpy as np
+import scipy.linalg
+
+from . import shapes
+from .genalpha import Boundary, ConvergenceError, Newton, Run, Scheme, integrate
+from .model import Cosserat
+from .rod import Rod
+
+__all__ = ["m_cri", "critical_moment", "critical_twist", "critical_twist_numerical",
+           "Perturbation", "BucklingRun", "simulate", "Onset", "detect_onset"]
+
+
+def _m_cri(digits: int = 40) -> mpmath.mpf:
+    """Smallest nonzero root of tan(pi m) = pi m (between 1 and 3/2)."""
+    with mpmath.workdps(digits):
+        return mpmath.findroot(lambda m: mpmath.sin(mpmath.pi * m)
+                               - mpmath.pi * m * mpmath.cos(mpmath.pi * m), mpmath.mpf("1.43"))
+
+
+#: the nondimensional critical moment of eq (31), to 40 digits (mpmath)
+M_CRI_MP = _m_cri()
+m_cri = float(M_CRI_MP)
+
+
+def critical_moment(rod: Rod) -> float:
+    """M_cri = 2 pi E I1 m_cri / L (eq 31)."""
+    return 2 * math.pi * rod.E * rod.I1 * m_cri / rod.L
+
+
+def critical_twist(rod: Rod) -> float:
+    """kappa_cri = M_cri / (G J) (eq 32); 11.2335 1/m for Table 1."""
+    return critical_moment(rod) / rod.C
+
+
+def _cheb(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Chebyshev points on [-1, 1] (descending) and the differentiation matrix (Trefethen)."""
+    x = np.cos(np.pi * np.arange(n + 1) / n)
+    c = np.r_[2.0, np.ones(n - 1), 2.0] * (-1.0) ** np.arange(n + 1)
+    X = np.tile(x, (n + 1, 1)).T
+    dX = X - X.T
+    D = np.outer(c, 1.0 / c) / (dX + np.eye(n + 1))
+    D -= np.diag(D.sum(axis=1))
+    return x, D
+
+
+def critical_twist_numerical(rod: Rod, n: int = 40) -> float:
+    """Independent check of eq (32): the smallest twist at which the static linearised
+    Kirchhoff equations of the straight twisted rod have a nontrivial solution.
+
+    Lateral displacement w = x + i y, moment M = C kappa3: B w'''' - i M w''' = 0 with
+    the boundary conditions of eq (30) in statics: w = w' = 0 at both ends (position
+    and tangent held at s = 0; tangent and lateral position held at s = L, axial
+    sliding free).  Chebyshev collocation turns this into a generalised eigenproblem
+    for M.
+    """
+    x, D = _cheb(n)
+    D = D * (2.0 / rod.L)  # s = L (1 - x) / 2 maps x = 1 to s = 0; the sign of D is immaterial
+    D3, D4 = D @ D @ D, D @ D @ D @ D
+    A = rod.B1 * D4.astype(complex)
+    Bm = 1j * D3
+    rows = [0, n, 1, n - 1]  # replace two rows at each end by the boundary conditions
+    bc = [np.eye(n + 1)[0], np.eye(n + 1)[n], D[0], D[n]]
+    for r, b in zip(rows, bc, strict=True):
+        A[r] = b
+        Bm[r] = 0.0
+    vals = scipy.linalg.eigvals(A, Bm)
+    vals = vals[np.isfinite(vals)]
+    real = vals[(np.abs(vals.imag) < 1e-6 * np.abs(vals)) & (np.abs(vals.real) > 0)]
+    return float(np.min(np.abs(real.real))) / rod.C
+
+
+# ================================================================= the buckling scene
+@dataclass(frozen=True)
+class Perturbation:
+    """The small force that seeds buckling (section 6: "1e-8 N in the d1 direction").
+
+    The paper does not say where it acts.  ``form="uniform"`` (default) applies
+    ``magnitude`` N/m along the whole rod; ``form="point"`` applies ``magnitude`` N at
+    the node nearest to ``location`` (as magnitude/ds N/m on that node's row).
+    ``direction`` is a body-frame unit vector (default d1).  The force acts for all t.
+    """
+
+    magnitude: float = 1e-8
+    form: str = "uniform"
+    location: float = 0.5
+    direction: tuple[float, float, float] = (1.0, 0.0, 0.0)
+
+    def __post_init__(self) -> None:
+        if not (math.isfinite(self.magnitude) and self.magnitude >= 0):
+            raise ValueError(f"perturbation magnitude={self.magnitude!r} must be finite and >= 0")
+        if self.form not in ("uniform", "point"):
+            raise ValueError(f"perturbation form={self.form!r}; allowed: 'uniform', 'point'")
+        d = np.asarray(self.direction, dtype=float)
+        if d.shape != (3,) or not np.isclose(np.linalg.norm(d), 1.0):
+            raise ValueError(f"perturbation direction={self.direction!r} must be a unit 3-vector")
+
+    def force(self, s: np.ndarray, length: float) -> np.ndarray:
+        """Body force per length (N+1, 3) at the nodes s."""
+        f = np.zeros((s.size, 3))
+        if self.form == "uniform":
+            f[:] = self.magnitude * np.asarray(self.direction)
+        else:
+            if not 0 <= self.location <= length:
+                raise ValueError(f"perturbation location={self.location!r} must lie in "
+                                 f"[0, L] = [0, {length}]")
+            j = int(np.argmin(np.abs(s - self.location)))
+            ds = s[1] - s[0]
+            weight = ds if 0 < j < s.size - 1 else 0.5 * ds
+            f[j] = self.magnitude / weight * np.asarray(self.direction)
+        return f
+
+
+@dataclass
+class BucklingRun:
+    """The buckling scene's outcome: traces every step, snapshots, and the run."""
+
+    t: np.ndarray
+    u3_end: np.ndarray
+    kappa3_left: np.ndarray
+    kappa3_right: np.ndarray
+    omega3_left: np.ndarray
+    omega3_right: np.ndarray
+    theta_left: np.ndarray
+    run: Run
+    params: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def stopped(self) -> str:
+        return self.run.stopped
+
+    def shape(self, t: float) -> tuple[float, np.ndarray]:
+        """(time, centreline (N+1, 3)) of the snapshot nearest to t (spatial route, the
+        left end turned by the integrated end spin)."""
+        i = int(np.argmin(np.abs(self.run.snapshot_times - t)))
+        ts = float(self.run.snapshot_times[i])
+        theta = float(np.interp(ts, self.t, self.theta_left))
+        ds = self.run.s[1] - self.run.s[0]
+        return ts, shapes.shape(self.run.snapshots[i], ds, theta)
+
+
+def simulate(rod: Rod | None = None, *, a: float, kappa0: float = 0.0, n_cells: int, dt: float,
+             t_end: float, perturbation: float | Perturbation = 1e-8,
+             scheme: Scheme = Scheme(), newton: Newton = Newton(),
+             snapshots: Sequence[float] = (), stop_at_contact: bool = True,
+             check_every: int | None = None, progress: bool | None = None,
+             on_failure: str = "raise") -> BucklingRun:
+    """Run the buckling scene of section 6.
+
+    Table 1 rod (or ``rod``), boundary conditions of eq (30) with
+    kappa3(0, t) = kappa0 + a t, initial state y = 0 except k3 = kappa0 (a straight
+    rod pretwisted without stress in bending), and a constant seed force
+    ``perturbation`` (N/m along the rod in d1, or a :class:`Perturbation`).  With
+    no seed (magnitude 0) the straight rod is an exact solution of the discrete
+    equations and the run stays straight to round-off.
+
+    The run ends at ``t_end`` or, with ``stop_at_contact``, at the first check
+    (every ``check_every`` steps, default about every 0.1 s of simulated time)
+    at which two non-neighbouring parts of the centreline come closer than D;
+    ``result.stopped`` says which ("t_end" or "self-contact ...").
+
+    Past the onset the rod whips round violently; a Newton failure there raises
+    :class:`~dyntorsion.genalpha.ConvergenceError` (``on_failure="raise"``), or, with
+    ``on_failure="return"``, ends the run at the last completed step with
+    ``stopped = "failed: ..."`` (the traces up to it are what the onset needs).
+    """
+    if on_failure not in ("raise", "return"):
+        raise ValueError(f"on_failure={on_failure!r}; allowed: 'raise', 'return'")
+    rod = Rod.paper() if rod is None else rod
+    for name, value in (("a", a), ("kappa0", kappa0)):
+        if not math.isfinite(value):
+            raise ValueError(f"{name}={value!r} must be finite")
+    if not isinstance(perturbation, Perturbation):
+        perturbation = Perturbation(magnitude=float(perturbation))
+    model = Cosserat(rod)
+    system = model.system()
+    if not isinstance(n_cells, int | np.integer) or n_cells < 2:
+        raise ValueError(f"n_cells={n_cells!r} must be an integer >= 2")
+    n_cells = int(n_cells)
+    s = np.linspace(0.0, rod.L, n_cells + 1)
+    ds = rod.L / n_cells
+    y0 = np.zeros((n_cells + 1, 12))
+    y0[:, system.index("k3")] = kappa0
+    left = Boundary.fields(system, ["u1", "u2", "u3", "w1", "w2", "k3"],
+                           lambda t: np.outer(kappa0 + a * t, [0, 0, 0, 0, 0, 1]))
+    right = Boundary.fields(system, ["w1", "w2", "w3", "u1", "u2", "n3"])
+    q = model.external_force(perturbation.force(s, rod.L))
+
+    def contact(t, y):
+        hit = shapes.self_contact(shapes.shape(y, ds), rod.D)
+        if hit is None:
+            return None
+        d, i, j = hit
+        return f"self-contact at t = {t:.6g} s (segments {i} and {j}, distance {d:.3g} m)"
+
+    if check_every is None:
+        check_every = max(1, int(round(0.1 / dt)))
+    try:
+        run = integrate(system, n_cells=n_cells, length=rod.L, dt=dt, t_end=t_end, y0=y0,
+                        left=left, right=right, scheme=scheme, source=(q, None),
+                        record={"u3_end": ("u3", -1), "k3_left": ("k3", 0),
+                                "k3_right": ("k3", -1), "w3_left": ("w3", 0),
+                                "w3_right": ("w3", -1)},
+                        snapshots=snapshots, newton=newton,
+                        stop=contact if stop_at_contact else None, check_every=check_every,
+                        progress=progress)
+    except ConvergenceError as err:
+        if on_failure == "raise" or err.run is None:
+            raise
+        run = err.run
+    t = run.t
+    w0 = run["w3_left"]
+    theta = np.concatenate([[0.0], np.cumsum(0.5 * np.diff(t) * (w0[1:] + w0[:-1]))])
+    params = {"rod": rod.as_dict(), "a": a, "kappa0": kappa0, "n_cells": n_cells, "dt": dt,
+              "t_end": t_end, "perturbation": asdict(perturbation),
+              "scheme": run.meta["scheme"], "check_every": check_every}
+    return BucklingRun(t=t, u3_end=run["u3_end"], kappa3_left=run["k3_left"],
+                       kappa3_right=run["k3_right"], omega3_left=w0,
+                       omega3_right=run["w3_right"], theta_left=theta, run=run, params=params)
+
+
+# ================================================================= onset of buckling
+@dataclass(frozen=True)
+class Onset:
+    """Critical time and twist from the linear fit of u3(L, t) (section 6)."""
+
+    t_c: float
+    kappa3: float
+    uncertainty_t: float
+    uncertainty_kappa3: float
+    slope: float
+    intercept: float
+    window: tuple[float, float]
+    variations: dict[tuple[float, float], float]
+
+
+def detect_onset(run: BucklingRun, window: tuple[float, float] = (0.1, 0.5),
+                 variations: Sequence[tuple[float, float]] = ((0.05, 0.3), (0.2, 0.7)),
+                 u_ref: float | None = None) -> Onset:
+    """Fit a straight line to the initial dramatic variation of u3(L, t), extrapolate
+    to u3 = 0: t_c and kappa3 = kappa0 + a t_c.
+
+    Window rule (deterministic): U = |u3(L, t)|.  The rise starts when U first
+    exceeds ``u_ref`` (default L / T0, T0 = L^2 sqrt(rho A / B1) the bending time
+    scale: 0.023 m/s for Table 1, far above the prebuckling level and far below
+    the first peak); its peak U_peak is the running maximum of U at the first
+    later sample where U has fallen below 0.7 of that running maximum (so the
+    small torsional-wave ripples on the rise do not count as a peak).  The fit
+    uses the samples from the first time U exceeds ``window[0] * U_peak`` to the
+    first time it exceeds ``window[1] * U_peak``.  The same fit with each of
+    ``variations`` gives the method's uncertainty: the largest |t_c - t_c(variation)|.
+    """
+    t, u = np.asarray(run.t), np.asarray(run.u3_end)
+    U = np.abs(u)
+    if not np.any(U > 0):
+        raise ValueError("u3(L, t) is identically zero: the rod never left the straight state")
+    if u_ref is None:
+        rod = Rod(**{k: run.params["rod"][k] for k in ("E", "nu", "D", "L", "rho")})
+        u_ref = rod.L / (rod.L**2 * math.sqrt(rod.mass_per_length / rod.B1))
+    above = np.nonzero(U >= u_ref)[0]
+    if above.size == 0:
+        raise ValueError(f"|u3(L, t)| never reaches u_ref = {u_ref:.3g} m/s: the run ends "
+                         "before buckling; increase t_end")
+    i_start = int(above[0])
+    running = np.maximum.accumulate(U[i_start:])
+    drop = np.nonzero(U[i_start:] < 0.7 * running)[0]
+    end = i_start + (int(drop[0]) if drop.size else U.size - i_start)
+    i_peak = i_start + int(np.argmax(U[i_start:end]))
+    U_peak, sign = U[i_peak], np.sign(u[i_peak])
+
+    def fit(lo: float, hi: float):
+        if not 0 < lo < hi < 1:
+            raise ValueError(f"window=({lo}, {hi}) must satisfy 0 < lo < hi < 1")
+        head = U[: i_peak + 1]
+        i0 = int(np.argmax(head >= lo * U_peak))
+        i1 = int(np.argmax(head >= hi * U_peak))
+        if i1 - i0 < 2:
+            raise ValueError(f"window=({lo}, {hi}) holds fewer than 3 samples: refine dt "
+                             "or widen the window")
+        slope, intercept = np.polyfit(t[i0 : i1 + 1], sign * U[i0 : i1 + 1], 1)
+        return -intercept / slope, slope * sign, intercept * sign
+
+    t_c, slope, intercept = fit(*window)
+    var = {tuple(v): fit(*v)[0] for v in variations}
+    unc = max((abs(v - t_c) for v in var.values()), default=0.0)
+    a = run.params["a"]
+    return Onset(t_c=float(t_c), kappa3=float(run.params["kappa0"] + a * t_c),
+                 uncertainty_t=float(unc), uncertainty_kappa3=float(abs(a) * unc),
+                 slope=float(slope), intercept=float(intercept), window=tuple(window),
+                 variations={k: float(v) for k, v in var.items()})

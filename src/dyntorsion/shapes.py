@@ -1,0 +1,138 @@
+"""Rod shapes from the body-frame solution (section 4).
+
+R is the matrix whose columns are the inertial basis vectors e1, e2, e3 in body
+components (eq 14), so a body-frame vector v has inertial components R^T v and
+the director d3 has inertial components R[2, :].  Two routes give R:
+
+* in time (eqs 17-19): R(s, t + dt) = exp(-hat(dtheta)) R(s, t),
+  dtheta = dt (w(s, t + dt) + w(s, t)) / 2, and the centreline from the
+  velocity, r_t = R^T u (eq 21);
+* in space (eq 17, first form): R(s + ds) = exp(-hat(ds kbar)) R(s), starting
+  from the frame of the left end, and r_s = d3.
+
+Both use Rodrigues' formula (eq 20) for the exponential.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["hat", "rodrigues", "frames_along", "centreline", "left_end_frame", "shape",
+           "FrameTracker", "self_contact"]
+
+
+def hat(x: np.ndarray) -> np.ndarray:
+    """Skew matrices hat(x) y = x cross y, for x of shape (..., 3)."""
+    x = np.asarray(x, dtype=float)
+    out = np.zeros(x.shape + (3,))
+    out[..., 0, 1], out[..., 0, 2] = -x[..., 2], x[..., 1]
+    out[..., 1, 0], out[..., 1, 2] = x[..., 2], -x[..., 0]
+    out[..., 2, 0], out[..., 2, 1] = -x[..., 1], x[..., 0]
+    return out
+
+
+def rodrigues(x: np.ndarray) -> np.ndarray:
+    """exp(-hat(x)) = E - hat(n) sin|x| + hat(n)^2 (1 - cos|x|), n = x/|x| (eq 20).
+
+    Written as E - a hat(x) + b hat(x)^2 with a = sin|x|/|x|, b = (1 - cos|x|)/|x|^2,
+    whose Taylor series are used for |x| < 1e-4 so that x -> 0 is exact.
+    """
+    x = np.asarray(x, dtype=float)
+    th2 = np.sum(x * x, axis=-1)
+    th = np.sqrt(th2)
+    small = th < 1e-4
+    safe = np.where(small, 1.0, th)
+    a = np.where(small, 1.0 - th2 / 6.0 + th2**2 / 120.0, np.sin(safe) / safe)
+    b = np.where(small, 0.5 - th2 / 24.0 + th2**2 / 720.0, (1.0 - np.cos(safe)) / safe**2)
+    X = hat(x)
+    return np.eye(3) - a[..., None, None] * X + b[..., None, None] * (X @ X)
+
+
+def left_end_frame(theta: float) -> np.ndarray:
+    """R at s = 0 after the end has turned by theta about e3 (the only rotation eq 30 allows)."""
+    return rodrigues(np.array([0.0, 0.0, theta]))
+
+
+def frames_along(k: np.ndarray, ds: float, R0: np.ndarray | None = None) -> np.ndarray:
+    """R at every node from the curvatures k (N+1, 3): R_j = exp(-hat(ds kbar_j)) R_{j-1}."""
+    k = np.asarray(k, dtype=float)
+    steps = rodrigues(0.5 * ds * (k[1:] + k[:-1]))
+    R = np.empty((k.shape[0], 3, 3))
+    R[0] = np.eye(3) if R0 is None else R0
+    for j in range(1, k.shape[0]):
+        R[j] = steps[j - 1] @ R[j - 1]
+    return R
+
+
+def centreline(R: np.ndarray, ds: float, r0: np.ndarray | None = None) -> np.ndarray:
+    """r from r_s = d3 (trapezoidal), d3 in inertial components = R[:, 2, :]."""
+    d3 = R[:, 2, :]
+    r = np.zeros((R.shape[0], 3))
+    r[1:] = np.cumsum(0.5 * ds * (d3[1:] + d3[:-1]), axis=0)
+    return r if r0 is None else r + r0
+
+
+def shape(y: np.ndarray, ds: float, theta0: float = 0.0, k_index: int = 6) -> np.ndarray:
+    """Centreline (N+1, 3) of a 12-field state y by the spatial route, the left end at the
+    origin with its frame turned by theta0 about e3."""
+    R = frames_along(y[:, k_index : k_index + 3], ds, left_end_frame(theta0))
+    return centreline(R, ds)
+
+
+class FrameTracker:
+    """The time route: frames and centreline of every node, advanced step by step.
+
+    Start from frames ``R`` (N+1, 3, 3) and positions ``r`` (N+1, 3) at t0; call
+    :meth:`step` with the spins and velocities (body components) of the old and
+    new level.
+    """
+
+    def __init__(self, R: np.ndarray, r: np.ndarray):
+        self.R = np.array(R, dtype=float)
+        self.r = np.array(r, dtype=float)
+
+    def step(self, w_old, w_new, u_old, u_new, dt: float) -> None:
+        v_old = np.einsum("nji,nj->ni", self.R, u_old)          # R^T u
+        self.R = rodrigues(0.5 * dt * (np.asarray(w_new) + np.asarray(w_old))) @ self.R
+        v_new = np.einsum("nji,nj->ni", self.R, u_new)
+        self.r = self.r + 0.5 * dt * (v_old + v_new)
+
+
+def _segment_distances(p0, p1, q0, q1):
+    """Smallest distances between segments p0-p1 and q0-q1 (arrays (m, 3))."""
+    d1, d2, r = p1 - p0, q1 - q0, p0 - q0
+    a = np.einsum("ij,ij->i", d1, d1)
+    e = np.einsum("ij,ij->i", d2, d2)
+    f = np.einsum("ij,ij->i", d2, r)
+    c = np.einsum("ij,ij->i", d1, r)
+    b = np.einsum("ij,ij->i", d1, d2)
+    denom = a * e - b * b
+    s = np.where(denom > 1e-14 * a * e, np.clip((b * f - c * e) / np.where(denom > 0, denom, 1),
+                                               0, 1), 0.0)
+    t = (b * s + f) / e
+    t_c = np.clip(t, 0, 1)
+    s = np.where(t != t_c, np.clip((b * t_c - c) / a, 0, 1), s)
+    diff = p0 + d1 * s[:, None] - q0 - d2 * t_c[:, None]
+    return np.sqrt(np.einsum("ij,ij->i", diff, diff))
+
+
+def self_contact(r: np.ndarray, diameter: float, min_arc: float | None = None):
+    """(distance, i, j) of the closest pair of segments i, j of the centreline r whose
+    arc-length separation exceeds ``min_arc`` (default 2 diameters, and never
+    adjacent segments), or None when no pair comes within ``diameter``."""
+    r = np.asarray(r, dtype=float)
+    n = r.shape[0] - 1
+    seg_len = np.linalg.norm(np.diff(r, axis=0), axis=1)
+    arc = np.concatenate([[0.0], np.cumsum(seg_len)])
+    min_arc = 2 * diameter if min_arc is None else min_arc
+    i, j = np.triu_indices(n, k=2)
+    keep = arc[j] - arc[i + 1] > min_arc
+    i, j = i[keep], j[keep]
+    mid = 0.5 * (r[1:] + r[:-1])
+    near = np.linalg.norm(mid[i] - mid[j], axis=1) < 0.5 * (seg_len[i] + seg_len[j]) + diameter
+    i, j = i[near], j[near]
+    if i.size == 0:
+        return None
+    d = _segment_distances(r[i], r[i + 1], r[j], r[j + 1])
+    m = int(np.argmin(d))
+    return (float(d[m]), int(i[m]), int(j[m])) if d[m] < diameter else None
