@@ -37,6 +37,7 @@ docs: paper
 ## bench: engine benchmarks (timings are printed, never asserted)
 bench: $(VENV)/.test-installed
 	$(PY) benchmarks/bench_engine.py
+	$(PY) benchmarks/bench_scenes.py
 
 clean:
 	rm -rf docs/_build docs/jupyter_execute paper/figures .pytest_cache

@@ -1,0 +1,44 @@
+"""Wall time of the paper's scenes at the grids the figures use.
+
+* Fig 8: the buckling scene (Table 1, kappa0 = 0, a = 1.6 rad/s, default seed),
+  N = 100, dt = 0.005 s, to the end of the run (self-contact or the first failed
+  step in the violent motion after the onset); the onset's t_c is grid independent
+  to 0.04 % there (docs/figures/fig08.md).
+* Fig 6: the smooth-release wave on the paper's grid and on a grid 16 times finer.
+
+Medians of three runs; nothing is asserted.
+"""
+
+from __future__ import annotations
+
+import platform
+import statistics
+import sys
+
+from dyntorsion import __version__
+from dyntorsion import buckling as b
+from dyntorsion import waves as w
+
+
+def main() -> None:
+    print(f"dyntorsion {__version__}, Python {sys.version.split()[0]}, {platform.machine()}")
+    b.simulate(a=1.6, n_cells=10, dt=0.05, t_end=0.2)  # compile outside the timing
+    walls, steps = [], 0
+    for _ in range(3):
+        run = b.simulate(a=1.6, n_cells=100, dt=0.005, t_end=40.0, on_failure="return")
+        walls.append(run.run.wall_time)
+        steps = run.run.steps
+    med = statistics.median(walls)
+    print(f"Fig 8 scene, N=100, dt=0.005: {med:.2f} s for {steps} steps "
+          f"({1e3 * med / steps:.2f} ms/step), t_c = {b.detect_onset(run).t_c:.3f} s")
+    for n, dt in ((100, 0.005), (1600, 0.005 / 16)):
+        times = []
+        for _ in range(3):
+            sol = w.solve(w.SmoothRelease(10.0), n_cells=n, dt=dt, times=[0.01])
+            times.append(sol.run.wall_time)
+        print(f"Fig 6 wave, N={n}, dt={dt:g}: {1e3 * statistics.median(times):.1f} ms, "
+              f"max error {sol.errors()['max'][0]:.2e}")
+
+
+if __name__ == "__main__":
+    main()
