@@ -135,3 +135,15 @@ def test_onset_of_a_synthetic_trace():
     assert onset.t_c == pytest.approx(6.0, abs=1e-3)
     assert onset.kappa3 == pytest.approx(13.0, abs=2e-3)
     assert onset.uncertainty_t < 1e-3
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("rho", [1500.0, 5000.0], ids=["fig08", "fig09"])
+def test_paper_scene_onset_regression(rho, num_regression):
+    """The full Fig 8 / Fig 9 scenes (kappa0 = 0, a = 1.6, default seed, N = 100, dt = 0.005)."""
+    run = b.simulate(Rod.paper().with_(rho=rho), a=1.6, n_cells=100, dt=0.005, t_end=45.0,
+                     on_failure="return")
+    onset = b.detect_onset(run)
+    assert onset.kappa3 > b.critical_twist(Rod.paper())
+    num_regression.check({"t_c": [onset.t_c], "kappa3": [onset.kappa3]},
+                         default_tolerance={"rtol": 1e-6, "atol": 1e-9})
