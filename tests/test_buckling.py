@@ -129,8 +129,8 @@ def test_onset_of_a_synthetic_trace():
     u = np.where(t < 6, 1e-9 * np.exp(t), 0.0) + np.where(t > 6, -0.5 * (t - 6), 0.0)
     u = np.where(t > 8, -1.0 + 0.9 * (t - 8), u)  # the peak, then a fall
     run = b.BucklingRun(t=t, u3_end=u, kappa3_left=t, kappa3_right=t, omega3_left=0 * t,
-                        omega3_right=0 * t, theta_left=0 * t, run=None,
-                        params={"a": 2.0, "kappa0": 1.0, "rod": Rod.paper().as_dict()})
+                        omega3_right=0 * t, theta_left=0 * t, run=None, rod=Rod.paper(),
+                        params={"a": 2.0, "kappa0": 1.0})
     onset = b.detect_onset(run)
     assert onset.t_c == pytest.approx(6.0, abs=1e-3)
     assert onset.kappa3 == pytest.approx(13.0, abs=2e-3)

@@ -14,7 +14,7 @@ ROD = Rod.paper()
 C, L = ROD.c, ROD.L
 
 
-def away_from_fronts(s, t, fronts, margin=0.02):
+def away_from_fronts(s, fronts, margin=0.02):
     s = np.asarray(s)
     return s[np.all(np.abs(s[:, None] - np.asarray(fronts)[None, :]) > margin, axis=1)]
 
@@ -26,7 +26,7 @@ def test_eq25_matches_dalembert_away_from_fronts(t, kappa0):
     """Eq (25) against the travelling ramp a (t - d/c)_+ with its reflections."""
     ct = C * t
     fronts = [ct % (2 * L), 2 * L - ct % (2 * L)]
-    s = away_from_fronts(np.linspace(0, L, 41), t, fronts)
+    s = away_from_fronts(np.linspace(0, L, 41), fronts)
     series = w.linear_loading_exact(s, t, a=0.7, kappa0=kappa0, c=C, L=L, tol=1e-11)
     closed = w.linear_loading_dalembert(s, t, a=0.7, kappa0=kappa0, c=C, L=L)
     assert np.max(np.abs(series - closed)) < 1e-11

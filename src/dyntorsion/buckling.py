@@ -134,6 +134,7 @@ class BucklingRun:
     omega3_right: np.ndarray
     theta_left: np.ndarray
     run: Run
+    rod: Rod
     params: dict[str, Any] = field(default_factory=dict)
 
     @property
@@ -227,7 +228,8 @@ def simulate(rod: Rod | None = None, *, a: float, kappa0: float = 0.0, n_cells: 
               "scheme": run.meta["scheme"], "check_every": check_every}
     return BucklingRun(t=t, u3_end=run["u3_end"], kappa3_left=run["k3_left"],
                        kappa3_right=run["k3_right"], omega3_left=w0,
-                       omega3_right=run["w3_right"], theta_left=theta, run=run, params=params)
+                       omega3_right=run["w3_right"], theta_left=theta, run=run, rod=rod,
+                       params=params)
 
 
 # ================================================================= onset of buckling
@@ -266,8 +268,7 @@ def detect_onset(run: BucklingRun, window: tuple[float, float] = (0.1, 0.5),
     if not np.any(U > 0):
         raise ValueError("u3(L, t) is identically zero: the rod never left the straight state")
     if u_ref is None:
-        rod = Rod(**{k: run.params["rod"][k] for k in ("E", "nu", "D", "L", "rho")})
-        u_ref = rod.L / (rod.L**2 * math.sqrt(rod.mass_per_length / rod.B1))
+        u_ref = float(Cosserat(run.rod).scales()[0][0])  # L / T0
     above = np.nonzero(U >= u_ref)[0]
     if above.size == 0:
         raise ValueError(f"|u3(L, t)| never reaches u_ref = {u_ref:.3g} m/s: the run ends "

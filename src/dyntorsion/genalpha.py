@@ -152,6 +152,13 @@ class System:
     yscale: np.ndarray
     rscale: np.ndarray
 
+    @classmethod
+    def from_model(cls, model, *, names, F, dF, params) -> System:
+        """A system from a model with ``mass_matrix``, ``stiffness_matrix`` and ``scales()``."""
+        ys, rs = model.scales()
+        return cls(names=tuple(names), M=model.mass_matrix, K=model.stiffness_matrix, F=F, dF=dF,
+                   params=params, yscale=ys, rscale=rs)
+
     @property
     def nf(self) -> int:
         return len(self.names)

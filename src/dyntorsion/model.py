@@ -212,17 +212,8 @@ class Cosserat:
         return ys, rs
 
     def system(self) -> System:
-        ys, rs = self.scales()
-        return System(
-            names=FIELDS,
-            M=self.mass_matrix,
-            K=self.stiffness_matrix,
-            F=load_vector,
-            dF=load_jacobian,
-            params=self.params,
-            yscale=ys,
-            rscale=rs,
-        )
+        return System.from_model(self, names=FIELDS, F=load_vector, dF=load_jacobian,
+                                 params=self.params)
 
     def energy_density(self, y: np.ndarray) -> np.ndarray:
         """Kinetic + elastic energy per unit length, 1/2 rhoA|u|^2 + 1/2 w.rhoI w + 1/2 k.K^k."""

@@ -89,17 +89,8 @@ class Torsion:
         return ys, rs
 
     def system(self) -> System:
-        ys, rs = self.scales()
-        return System(
-            names=FIELDS,
-            M=self.mass_matrix,
-            K=self.stiffness_matrix,
-            F=_no_load,
-            dF=_no_load_jacobian,
-            params=np.zeros(1),
-            yscale=ys,
-            rscale=rs,
-        )
+        return System.from_model(self, names=FIELDS, F=_no_load, dF=_no_load_jacobian,
+                                 params=np.zeros(1))
 
     def energy(self, y: np.ndarray, ds: float) -> float:
         """Discrete energy of the box scheme: sum over cells of ds (rhoJ wbar^2 + C kbar^2)/2.
@@ -458,10 +449,11 @@ def instant_release_exact(s, t, *, kappa0: float, c: float, L: float,
     s, t = _grid(s, t, L)
 
     def needed(tol):
-        worst = float(np.max(instant_release_bound(1, s, t, kappa0=kappa0, c=c, L=L))) * 3
-        if not math.isfinite(worst):
+        # bound(N) = C / (2N + 1): C = 3 bound(1)
+        C = 3 * float(np.max(instant_release_bound(1, s, t, kappa0=kappa0, c=c, L=L)))
+        if not math.isfinite(C):
             return MAX_TERMS + 1
-        return math.ceil((worst / tol - 1) / 2)
+        return math.ceil((C / tol - 1) / 2)
 
     n_terms = _terms(terms, tol, needed)
     if precise:
@@ -519,8 +511,9 @@ def smooth_release_bound(terms: int, t, *, kappa0: float, c: float, L: float, ra
                          f: Transition = DEFAULT_TRANSITION) -> np.ndarray:
     """Bound on the truncation error of eq (29) after ``terms`` terms, uniform in s.
 
-    Integrating I_n by parts once, |I_n(t)| <= (|f''(rate t)| + int_0^{rate t} |f'''(x)| dx) / omega_n
-    (f''(0) = 0 for the transitions here), so the terms fall like n^-3 and
+    Integrating I_n by parts once,
+    |I_n(t)| <= (|f''(rate t)| + |f''(0)| + int_0^{rate t} |f'''(x)| dx) / omega_n = B(t) / omega_n,
+    so the terms fall like n^-3 and
     |tail| <= 2 rate^2 |kappa0| B(t) / (L c^2) (2L/pi)^3 / (4 (2N - 1)^2).
     """
     t = np.atleast_1d(np.asarray(t, dtype=float))
@@ -532,7 +525,8 @@ def smooth_release_bound(terms: int, t, *, kappa0: float, c: float, L: float, ra
         h = np.diff(edges)[:, None]
         xq = (edges[:-1, None] + 0.5 * h * (xg + 1)).ravel()
         wq = (0.5 * h * wg).ravel()
-        B = abs(float(f(x_end, 2))) + float(np.sum(np.abs(f(xq, 3)) * wq)) if x_end > 0 else 0.0
+        B = (abs(float(f(x_end, 2))) + abs(float(f(np.nextafter(0.0, 1.0), 2)))
+             + float(np.sum(np.abs(f(xq, 3)) * wq))) if x_end > 0 else 0.0
         out.append(2 * rate**2 * abs(kappa0) * B / (L * c**2) * (2 * L / math.pi) ** 3
                    / (4 * (2 * terms - 1) ** 2))
     return np.array(out).reshape(t.shape)
@@ -701,10 +695,6 @@ class SmoothRelease:
 Problem = LinearLoading | InstantRelease | SmoothRelease
 
 
-def _initial_kappa(problem: Problem) -> float:
-    return problem.kappa0
-
-
 @dataclass
 class WaveSolution:
     """kappa(s, t) and omega(s, t) of a wave problem on the engine, at the requested times."""
@@ -755,11 +745,10 @@ def solve(problem: Problem, *, rod: Rod | None = None, n_cells: int, dt: float,
     model = Torsion(rod)
     system = model.system()
     left, right = problem.boundaries(system)
-    y0 = np.zeros((n_cells + 1, 2)) if isinstance(n_cells, int | np.integer) and n_cells >= 2 \
-        else None
-    if y0 is None:
+    if not isinstance(n_cells, int | np.integer) or n_cells < 2:
         raise ValueError(f"n_cells={n_cells!r} must be an integer >= 2")
-    y0[:, 0] = _initial_kappa(problem)
+    y0 = np.zeros((n_cells + 1, 2))
+    y0[:, 0] = problem.kappa0
     scheme = Scheme(lam_s=lam_s, lam_t=lam_t, quadrature=quadrature)
     run = integrate(system, n_cells=int(n_cells), length=rod.L, dt=dt, t_end=float(times_arr.max()),
                     y0=y0, left=left, right=right, scheme=scheme, y_t0="zero",
