@@ -4,7 +4,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 PY     := $(BIN)/python
 
-.PHONY: test test-all paper docs bench lint clean distclean
+.PHONY: test test-all paper docs data bench lint clean distclean
 
 $(PY):
 	$(PYTHON) -m venv $(VENV)
@@ -33,6 +33,13 @@ paper: $(VENV)/.docs-installed
 	@echo "Site built: open docs/_build/html/index.html"
 
 docs: paper
+
+## data: recompute the cached scenes in data/scenes (Fig 10 sweeps, direct Fig 8/9 runs,
+## grid check); scenes already cached and current are kept.  JOBS local processes.
+JOBS ?= 2
+DATA_PRESETS := fig10 fig10-tiny-seed fig08-09 fig08-09-tiny-seed fig10-grid fig10-grid-tiny-seed
+data: $(VENV)/.test-installed
+	$(BIN)/dyntorsion sweep $(foreach p,$(DATA_PRESETS),--preset $(p)) --jobs $(JOBS)
 
 ## bench: engine benchmarks (timings are printed, never asserted)
 bench: $(VENV)/.test-installed

@@ -1,0 +1,8 @@
+"""``python -m dyntorsion``: the command line (see :mod:`dyntorsion.cli`)."""
+
+import sys
+
+from .cli import main
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,229 @@
+"""Cached results in ``data/``, with provenance.
+
+Every expensive scene is stored as one JSON record, named by the hash of its
+parameters::
+
+    {"schema": 1, "kind": ..., "key": ..., "params": {...}, "result": {...},
+     "provenance": {"package_version", "code", "python", "numpy", "numba",
+                    "created", "wall_time_s"},
+     "hash": sha256 of the canonical JSON of {kind, params, result}}
+
+``params`` holds everything the numbers depend on (rod, loading, seed, grid,
+scheme, Newton options, onset window); ``provenance.code`` is a fingerprint of
+the code that computes them (:func:`code_fingerprint`).  Records are written
+atomically (a temporary file in the same folder, then ``os.replace``), so a
+killed run leaves either the whole record or none.
+
+Reading checks, in order: the content hash (a damaged or hand-edited record is
+refused), the parameters (they must equal the request), and then the package
+version and the code fingerprint.  A record that fails the last check is
+*stale*: :meth:`Store.load` recomputes it (``on_stale="recompute"``, it returns
+None), refuses it (``"error"``, :class:`StaleResultError` says what changed), or
+takes it anyway (``"accept"``, for reading old data on purpose).
+"""
+
+from __future__ import annotations
+
+import ast
+import datetime as _dt
+import hashlib
+import importlib
+import inspect
+import json
+import math
+import os
+import platform
+import tempfile
+import textwrap
+from collections.abc import Iterator, Mapping
+from dataclasses import dataclass
+from functools import lru_cache
+from pathlib import Path
+from typing import Any
+
+SCHEMA = 1
+
+#: what the cached numbers depend on: whole modules, or single objects in a module
+FINGERPRINTED: tuple[str, ...] = (
+    "dyntorsion._numba",
+    "dyntorsion._abd",
+    "dyntorsion.rod",
+    "dyntorsion.model",
+    "dyntorsion.genalpha",
+    "dyntorsion.shapes",
+    "dyntorsion.buckling:Perturbation",
+    "dyntorsion.buckling:simulate",
+    "dyntorsion.buckling:detect_onset",
+    "dyntorsion.sweep:Scene",
+    "dyntorsion.sweep:run_scene",
+)
+
+ON_STALE = ("recompute", "error", "accept")
+
+
+class StaleResultError(RuntimeError):
+    """A cached record no longer matches the code or the request."""
+
+
+class CorruptResultError(RuntimeError):
+    """A cached record whose content hash does not match its content."""
+
+
+# ----------------------------------------------------------------- hashing
+def _strip_docstrings(tree: ast.AST) -> ast.AST:
+    for node in ast.walk(tree):
+        body = getattr(node, "body", None)
+        if (isinstance(body, list) and body and isinstance(body[0], ast.Expr)
+                and isinstance(body[0].value, ast.Constant)
+                and isinstance(body[0].value.value, str)):
+            node.body = body[1:] or [ast.Pass()]
+    return tree
+
+
+def _source_digest(target: str) -> str:
+    module_name, _, attr = target.partition(":")
+    obj = importlib.import_module(module_name)
+    if attr:
+        obj = getattr(obj, attr)
+    tree = _strip_docstrings(ast.parse(textwrap.dedent(inspect.getsource(obj))))
+    return hashlib.sha256(ast.dump(tree).encode()).hexdigest()
+
+
+@lru_cache(maxsize=None)
+def code_fingerprint(targets: tuple[str, ...] = FINGERPRINTED) -> str:
+    """Hash of the code that computes cached results: the syntax trees (docstrings
+    and comments removed, so documentation edits do not invalidate data) of the
+    modules and objects in ``targets``."""
+    h = hashlib.sha256()
+    for target in targets:
+        h.update(f"{target}={_source_digest(target)};".encode())
+    return h.hexdigest()[:16]
+
+
+def _plain(obj: Any) -> Any:
+    """JSON-ready copy: tuples to lists, numpy scalars and arrays to Python."""
+    if isinstance(obj, Mapping):
+        return {str(k): _plain(v) for k, v in obj.items()}
+    if isinstance(obj, list | tuple):
+        return [_plain(v) for v in obj]
+    if hasattr(obj, "tolist"):
+        return _plain(obj.tolist())
+    if isinstance(obj, float) and not math.isfinite(obj):
+        raise ValueError(f"cannot store the non-finite number {obj!r}")
+    return obj
+
+
+def canonical(obj: Any) -> str:
+    """The canonical JSON text of ``obj`` (sorted keys, no spaces, floats by repr)."""
+    return json.dumps(_plain(obj), sort_keys=True, separators=(",", ":"), allow_nan=False)
+
+
+def digest(obj: Any) -> str:
+    return hashlib.sha256(canonical(obj).encode()).hexdigest()
+
+
+def key(kind: str, params: Mapping[str, Any]) -> str:
+    """File name stem of a record: 20 hex digits of the hash of (kind, params)."""
+    return digest({"kind": kind, "params": params})[:20]
+
+
+def provenance(wall_time: float | None = None) -> dict[str, Any]:
+    import numba
+    import numpy
+
+    from . import __version__
+    return {"package_version": __version__, "code": code_fingerprint(),
+            "python": platform.python_version(), "numpy": numpy.__version__,
+            "numba": numba.__version__,
+            "created": _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"),
+            "wall_time_s": wall_time}
+
+
+# ----------------------------------------------------------------- the store
+@dataclass(frozen=True)
+class Store:
+    """A folder of records (default ``data/scenes`` of the source tree)."""
+
+    root: Path
+
+    def __init__(self, root: str | os.PathLike[str]) -> None:
+        object.__setattr__(self, "root", Path(root))
+
+    def path(self, kind: str, params: Mapping[str, Any]) -> Path:
+        return self.root / f"{kind}-{key(kind, params)}.json"
+
+    def save(self, kind: str, params: Mapping[str, Any], result: Mapping[str, Any],
+             wall_time: float | None = None) -> Path:
+        """Write one record atomically; returns its path."""
+        record = {"schema": SCHEMA, "kind": kind, "key": key(kind, params),
+                  "params": _plain(params), "result": _plain(result),
+                  "provenance": provenance(wall_time)}
+        record["hash"] = digest({"kind": kind, "params": params, "result": result})
+        self.root.mkdir(parents=True, exist_ok=True)
+        target = self.path(kind, params)
+        fd, tmp = tempfile.mkstemp(dir=self.root, prefix=f".{target.stem}.", suffix=".tmp")
+        try:
+            with os.fdopen(fd, "w") as fh:
+                json.dump(record, fh, indent=1, sort_keys=True, allow_nan=False)
+                fh.write("\n")
+                fh.flush()
+                os.fsync(fh.fileno())
+            os.chmod(tmp, 0o644)
+            os.replace(tmp, target)
+        except BaseException:
+            Path(tmp).unlink(missing_ok=True)
+            raise
+        return target
+
+    def read(self, path: str | os.PathLike[str]) -> dict[str, Any]:
+        """One record, its content hash checked (:class:`CorruptResultError`)."""
+        path = Path(path)
+        try:
+            record = json.loads(path.read_text())
+        except (OSError, json.JSONDecodeError) as err:
+            raise CorruptResultError(f"{path}: unreadable record ({err})") from err
+        expected = digest({k: record.get(k) for k in ("kind", "params", "result")})
+        if record.get("hash") != expected:
+            raise CorruptResultError(f"{path}: content hash does not match its content "
+                                     "(damaged or edited by hand); delete it to recompute")
+        return record
+
+    def staleness(self, record: Mapping[str, Any]) -> str | None:
+        """Why a record is stale, or None if it matches the current code."""
+        from . import __version__
+        prov = record.get("provenance", {})
+        reasons = []
+        if record.get("schema") != SCHEMA:
+            reasons.append(f"record schema {record.get('schema')} != {SCHEMA}")
+        if prov.get("package_version") != __version__:
+            reasons.append(f"package version {prov.get('package_version')} != {__version__}")
+        if prov.get("code") != code_fingerprint():
+            reasons.append(f"code fingerprint {prov.get('code')} != {code_fingerprint()} "
+                           "(the numerical code changed since it was computed)")
+        return "; ".join(reasons) or None
+
+    def load(self, kind: str, params: Mapping[str, Any],
+             on_stale: str = "recompute") -> dict[str, Any] | None:
+        """The record for (kind, params), or None if it must be computed."""
+        if on_stale not in ON_STALE:
+            raise ValueError(f"on_stale={on_stale!r}; allowed: {', '.join(ON_STALE)}")
+        path = self.path(kind, params)
+        if not path.exists():
+            return None
+        record = self.read(path)
+        if canonical(record["params"]) != canonical(params):
+            raise StaleResultError(f"{path}: its parameters differ from the request "
+                                   "(hash collision or a renamed file)")
+        why = self.staleness(record)
+        if why is None or on_stale == "accept":
+            return record
+        if on_stale == "error":
+            raise StaleResultError(f"{path} is stale: {why}. Recompute it with `make data` "
+                                   "(or the sweep command with --on-stale recompute)")
+        return None
+
+    def records(self, kind: str | None = None) -> Iterator[dict[str, Any]]:
+        """Every record in the folder (of one kind), hashes checked."""
+        pattern = f"{kind}-*.json" if kind else "*.json"
+        for path in sorted(self.root.glob(pattern)):
+            yield self.read(path)

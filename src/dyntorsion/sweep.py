@@ -1,0 +1,277 @@
+"""Sweeps of the buckling scene over loading rates (section 6, Fig 10), cached in ``data/``.
+
+A :class:`Scene` is everything one buckling run and its onset depend on;
+:func:`run_scene` computes it (a plain function, so any process or cluster
+worker can run it); :func:`run_sweep` runs a list of scenes on any
+:class:`concurrent.futures.Executor`, writes each finished scene to a
+:class:`~dyntorsion.results.Store` at once, and skips scenes the store already
+holds, so a killed sweep resumes where it stopped.
+
+The presets (:data:`PRESETS`) are the sweeps behind Fig 10 and the direct runs
+of Figs 8 and 9 that the fitted law is checked against; ``make data`` computes
+them all.
+"""
+
+from __future__ import annotations
+
+import concurrent.futures as cf
+import math
+import multiprocessing
+import time
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from .buckling import Perturbation, critical_twist, detect_onset, simulate
+from .genalpha import Newton, Scheme
+from .results import Store
+from .rod import Rod
+
+__all__ = ["Scene", "run_scene", "run_sweep", "MissingResultError", "KIND", "DATA",
+           "FIG10_RATES", "SEEDS", "PRESETS", "preset", "paper_law"]
+
+KIND = "buckling-onset"
+
+#: the source tree's data folder (``data/scenes``)
+DATA = Path(__file__).resolve().parents[2] / "data" / "scenes"
+
+#: the paper's fit, eq (34); used only to choose how long a run may last
+PAPER_B, PAPER_SIGMA = 160.60, 0.5680
+
+
+def paper_law(a: float | np.ndarray, rod: Rod, kappa_cri: float | None = None):
+    """kappa3 of eq (33) with the paper's b = 160.60 and sigma = 0.5680 (eq 34)."""
+    kc = critical_twist(rod) if kappa_cri is None else kappa_cri
+    return kc + PAPER_B / rod.L * (np.asarray(a) * rod.L / rod.c) ** PAPER_SIGMA
+
+
+@dataclass(frozen=True)
+class Scene:
+    """One buckling run of section 6 and its onset.
+
+    ``t_end=None`` lets the run last until the twist reaches
+    kappa_cri + ``horizon`` x (the paper's delay at this rate, eq 33-34); the run
+    stops earlier at self-contact or at a Newton failure after the onset.  A run
+    that ends before the onset is reported as such, not hidden.
+    """
+
+    a: float
+    kappa0: float = 10.0
+    rod: Rod = field(default_factory=Rod)
+    seed: Perturbation = field(default_factory=Perturbation)
+    n_cells: int = 100
+    dt: float = 0.005
+    t_end: float | None = None
+    horizon: float = 3.0
+    scheme: Scheme = field(default_factory=Scheme)
+    newton: Newton = field(default_factory=Newton)
+    window: tuple[float, float] = (0.1, 0.5)
+    variations: tuple[tuple[float, float], ...] = ((0.05, 0.3), (0.2, 0.7))
+
+    def __post_init__(self) -> None:
+        if not (math.isfinite(self.a) and self.a > 0):
+            raise ValueError(f"a={self.a!r} must be a finite loading rate > 0 rad/(m s)")
+        if not math.isfinite(self.kappa0):
+            raise ValueError(f"kappa0={self.kappa0!r} must be finite")
+        if not isinstance(self.n_cells, int | np.integer) or self.n_cells < 2:
+            raise ValueError(f"n_cells={self.n_cells!r} must be an integer >= 2")
+        if not (math.isfinite(self.dt) and self.dt > 0):
+            raise ValueError(f"dt={self.dt!r} must be > 0")
+        if not (math.isfinite(self.horizon) and self.horizon > 0):
+            raise ValueError(f"horizon={self.horizon!r} must be > 0")
+        object.__setattr__(self, "a", float(self.a))
+        object.__setattr__(self, "kappa0", float(self.kappa0))
+        object.__setattr__(self, "n_cells", int(self.n_cells))
+        object.__setattr__(self, "dt", float(self.dt))
+        if self.t_end is not None and not (math.isfinite(self.t_end) and self.t_end > 0):
+            raise ValueError(f"t_end={self.t_end!r} must be > 0 (or None for the horizon rule)")
+        if self.duration() <= 0:
+            raise ValueError(f"kappa0={self.kappa0} lies beyond the horizon twist "
+                             f"{self.kappa0 + self.a * self.duration():.4g}; give t_end")
+
+    def duration(self) -> float:
+        """The run's t_end (explicit, or from the horizon rule)."""
+        if self.t_end is not None:
+            return float(self.t_end)
+        kc = critical_twist(self.rod)
+        kappa_end = kc + self.horizon * (float(paper_law(self.a, self.rod)) - kc)
+        return (kappa_end - self.kappa0) / self.a
+
+    def params(self) -> dict[str, Any]:
+        """Everything the result depends on (the cache key)."""
+        r = self.rod
+        return {"rod": {"E": r.E, "nu": r.nu, "D": r.D, "L": r.L, "rho": r.rho},
+                "a": self.a, "kappa0": self.kappa0, "perturbation": asdict(self.seed),
+                "n_cells": self.n_cells, "dt": self.dt, "t_end": self.duration(),
+                "scheme": asdict(self.scheme), "newton": asdict(self.newton),
+                "onset": {"window": list(self.window),
+                          "variations": [list(v) for v in self.variations]}}
+
+    def label(self) -> str:
+        return (f"a={self.a:.4g} kappa0={self.kappa0:g} rho={self.rod.rho:g} "
+                f"seed={self.seed.magnitude:g} N={self.n_cells} dt={self.dt:g}")
+
+
+def run_scene(scene: Scene) -> dict[str, Any]:
+    """Simulate one scene and detect its onset (section 6): a JSON-ready dict."""
+    run = simulate(scene.rod, a=scene.a, kappa0=scene.kappa0, n_cells=scene.n_cells,
+                   dt=scene.dt, t_end=scene.duration(), perturbation=scene.seed,
+                   scheme=scene.scheme, newton=scene.newton, progress=False,
+                   on_failure="return")
+    out: dict[str, Any] = {"stopped": run.stopped, "steps": int(run.t.size - 1),
+                           "t_last": float(run.t[-1]),
+                           "u3_peak": float(np.max(np.abs(run.u3_end)))}
+    try:
+        onset = detect_onset(run, window=scene.window, variations=scene.variations)
+    except ValueError as err:
+        out.update(onset_error=str(err), t_c=None, kappa3=None, uncertainty_t=None,
+                   uncertainty_kappa3=None)
+        return out
+    out.update(onset_error=None, t_c=onset.t_c, kappa3=onset.kappa3,
+               uncertainty_t=onset.uncertainty_t, uncertainty_kappa3=onset.uncertainty_kappa3,
+               slope=onset.slope, intercept=onset.intercept)
+    return out
+
+
+def _timed(scene: Scene) -> tuple[dict[str, Any], float]:
+    start = time.perf_counter()
+    result = run_scene(scene)
+    return result, time.perf_counter() - start
+
+
+class MissingResultError(LookupError):
+    """A scene the store does not hold, asked for without computing."""
+
+
+def _row(scene: Scene, record: dict[str, Any], cached: bool) -> dict[str, Any]:
+    res = record["result"]
+    return {"a": scene.a, "kappa0": scene.kappa0, "rho": scene.rod.rho,
+            "seed": scene.seed.magnitude, "seed_form": scene.seed.form,
+            "n_cells": scene.n_cells, "dt": scene.dt,
+            "t_c": res["t_c"], "kappa3": res["kappa3"],
+            "uncertainty_t": res["uncertainty_t"],
+            "uncertainty_kappa3": res["uncertainty_kappa3"],
+            "stopped": res["stopped"], "steps": res["steps"],
+            "wall_time_s": record["provenance"].get("wall_time_s"),
+            "key": record["key"], "cached": cached}
+
+
+def run_sweep(scenes: Sequence[Scene], store: Store | str | Path | None = None, *,
+              executor: cf.Executor | None = None, jobs: int = 1,
+              on_stale: str = "recompute", compute: bool = True,
+              progress: bool | None = None,
+              log: Callable[[str], None] | None = None) -> pd.DataFrame:
+    """Run (or read back) a sweep; one table row per scene, in the given order.
+
+    Scenes already in ``store`` (default :data:`DATA`) are read, not recomputed;
+    the others run on ``executor`` (any :class:`concurrent.futures.Executor`, for
+    example ``dask.distributed.Client.get_executor()``), or on ``jobs`` local
+    processes (``jobs=1``: in this process).  Each finished scene is written to
+    the store the moment it completes, so an interrupted sweep loses at most the
+    scenes that were running.  ``on_stale`` is passed to
+    :meth:`~dyntorsion.results.Store.load`; ``compute=False`` only reads, and
+    raises :class:`MissingResultError` for any scene the store lacks.
+    """
+    store = Store(DATA if store is None else store) if not isinstance(store, Store) else store
+    if not isinstance(jobs, int) or jobs < 1:
+        raise ValueError(f"jobs={jobs!r} must be an integer >= 1")
+    say = log or (lambda msg: None)
+    records: dict[int, tuple[dict[str, Any], bool]] = {}
+    todo: list[int] = []
+    for i, scene in enumerate(scenes):
+        rec = store.load(KIND, scene.params(), on_stale=on_stale)
+        if rec is None:
+            if store.path(KIND, scene.params()).exists():
+                say(f"stale, recomputing: {scene.label()}")
+            todo.append(i)
+        else:
+            records[i] = (rec, True)
+    if todo and not compute:
+        missing = "\n  ".join(scenes[i].label() for i in todo)
+        raise MissingResultError(f"{len(todo)} scene(s) are not in {store.root}:\n  {missing}\n"
+                                 "compute them with `make data` (or `dyntorsion sweep`)")
+
+    def finish(i: int, result: dict[str, Any], wall: float) -> None:
+        path = store.save(KIND, scenes[i].params(), result, wall_time=wall)
+        records[i] = (store.read(path), False)
+        say(f"done in {wall:.1f} s: {scenes[i].label()} -> kappa3 = {result['kappa3']}")
+
+    bar = None
+    if todo and (progress or progress is None):
+        from tqdm.auto import tqdm
+        bar = tqdm(total=len(todo), unit="scene", disable=None if progress is None else False)
+    try:
+        if executor is None and jobs == 1:
+            for i in todo:
+                finish(i, *_timed(scenes[i]))
+                if bar is not None:
+                    bar.update()
+        elif todo:
+            own = executor is None
+            pool = executor or cf.ProcessPoolExecutor(
+                max_workers=jobs, mp_context=multiprocessing.get_context("spawn"))
+            futures: dict[cf.Future, int] = {}
+            try:
+                futures = {pool.submit(_timed, scenes[i]): i for i in todo}
+                for fut in cf.as_completed(futures):
+                    finish(futures[fut], *fut.result())
+                    if bar is not None:
+                        bar.update()
+            except BaseException:
+                for fut in futures:
+                    fut.cancel()
+                raise
+            finally:
+                if own:
+                    pool.shutdown(wait=True, cancel_futures=True)
+    finally:
+        if bar is not None:
+            bar.close()
+    return pd.DataFrame([_row(scenes[i], *records[i]) for i in range(len(scenes))])
+
+
+# ----------------------------------------------------------------- presets
+#: 16 loading rates, 1.6 x 10^(k/6) for k = -9..6: 0.0506 to 16 rad/(m s), 2.5 decades
+FIG10_RATES: tuple[float, ...] = tuple(float(1.6 * 10 ** (k / 6)) for k in range(-9, 7))
+
+#: the seed stated in section 6 (1e-8 N, read as N/m along the rod) and the seed
+#: that reproduces the onset times of Figs 8 and 9 (see the Fig 8 page)
+SEEDS: dict[str, Perturbation] = {"stated": Perturbation(1e-8),
+                                  "tiny": Perturbation(1e-17)}
+
+
+def _fig10(seed: str, rates: Iterable[float] = FIG10_RATES, **grid: Any) -> list[Scene]:
+    return [Scene(a=a, kappa0=10.0, seed=SEEDS[seed], **grid) for a in rates]
+
+
+def _fig08_09(seed: str) -> list[Scene]:
+    return [Scene(a=1.6, kappa0=0.0, rod=Rod(rho=rho), seed=SEEDS[seed])
+            for rho in (1500.0, 5000.0)]
+
+
+def _grid(seed: str) -> list[Scene]:
+    ends = (FIG10_RATES[0], 1.6, FIG10_RATES[-1])
+    return [sc for n, dt in ((50, 0.01), (200, 0.0025)) for sc in _fig10(seed, ends,
+                                                                        n_cells=n, dt=dt)]
+
+
+#: name -> function returning the scenes; ``make data`` runs them all
+PRESETS: dict[str, Callable[[], list[Scene]]] = {
+    "fig10": lambda: _fig10("stated"),
+    "fig10-tiny-seed": lambda: _fig10("tiny"),
+    "fig08-09": lambda: _fig08_09("stated"),
+    "fig08-09-tiny-seed": lambda: _fig08_09("tiny"),
+    "fig10-grid": lambda: _grid("stated"),
+    "fig10-grid-tiny-seed": lambda: _grid("tiny"),
+}
+
+
+def preset(name: str) -> list[Scene]:
+    """The scenes of a named sweep (see :data:`PRESETS`)."""
+    if name not in PRESETS:
+        raise ValueError(f"preset={name!r}; allowed: {', '.join(PRESETS)}")
+    return PRESETS[name]()

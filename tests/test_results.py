@@ -1,0 +1,115 @@
+"""The data/ cache: provenance, content hashes, atomic writes, stale detection."""
+
+import ast
+import json
+
+import pytest
+
+from dyntorsion import __version__
+from dyntorsion import results as R
+
+PARAMS = {"a": 1.6, "grid": {"n_cells": 100, "dt": 0.005}, "window": (0.1, 0.5)}
+RESULT = {"t_c": 14.7, "kappa3": 23.52, "stopped": "self-contact"}
+
+
+@pytest.fixture
+def store(tmp_path):
+    return R.Store(tmp_path / "scenes")
+
+
+def test_roundtrip_with_provenance(store):
+    path = store.save("demo", PARAMS, RESULT, wall_time=1.25)
+    rec = store.load("demo", PARAMS, on_stale="error")
+    assert rec["result"] == RESULT
+    assert rec["params"]["window"] == [0.1, 0.5]
+    prov = rec["provenance"]
+    assert prov["package_version"] == __version__
+    assert prov["code"] == R.code_fingerprint()
+    assert prov["wall_time_s"] == 1.25
+    assert {"python", "numpy", "numba", "created"} <= set(prov)
+    assert path.name == f"demo-{R.key('demo', PARAMS)}.json"
+    assert rec["hash"] == R.digest({"kind": "demo", "params": PARAMS, "result": RESULT})
+
+
+def test_missing_record_is_none(store):
+    assert store.load("demo", PARAMS) is None
+
+
+def test_key_depends_on_every_parameter():
+    keys = {R.key("demo", PARAMS), R.key("other", PARAMS),
+            R.key("demo", {**PARAMS, "a": 1.6000000000000003}),
+            R.key("demo", {**PARAMS, "grid": {"n_cells": 100, "dt": 0.0025}})}
+    assert len(keys) == 4
+    assert R.key("demo", dict(reversed(list(PARAMS.items())))) == R.key("demo", PARAMS)
+
+
+def test_write_is_atomic_and_leaves_no_temporary(store, monkeypatch):
+    store.save("demo", PARAMS, RESULT)
+    assert [p.name for p in store.root.iterdir()] == [store.path("demo", PARAMS).name]
+
+    def boom(*args, **kwargs):
+        raise KeyboardInterrupt  # the process is stopped in the middle of the write
+
+    monkeypatch.setattr(R.json, "dump", boom)
+    with pytest.raises(KeyboardInterrupt):
+        store.save("demo", {**PARAMS, "a": 3.2}, RESULT)
+    assert len(list(store.root.iterdir())) == 1  # neither the record nor its temporary
+    assert store.load("demo", {**PARAMS, "a": 3.2}) is None
+
+
+def test_leftover_temporary_is_ignored(store):
+    store.save("demo", PARAMS, RESULT)
+    (store.root / ".demo-x.abc.tmp").write_text('{"half": ')  # as a SIGKILL would leave it
+    assert len(list(store.records("demo"))) == 1
+
+
+def test_edited_record_is_refused(store):
+    path = store.save("demo", PARAMS, RESULT)
+    rec = json.loads(path.read_text())
+    rec["result"]["kappa3"] = 33.38
+    path.write_text(json.dumps(rec))
+    with pytest.raises(R.CorruptResultError, match="content hash"):
+        store.load("demo", PARAMS)
+
+
+@pytest.mark.parametrize("field, value, reason", [("code", "0000000000000000", "fingerprint"),
+                                                  ("package_version", "0.0.1", "version")])
+def test_stale_record(store, field, value, reason):
+    path = store.save("demo", PARAMS, RESULT)
+    rec = json.loads(path.read_text())
+    rec["provenance"][field] = value
+    path.write_text(json.dumps(rec))
+    assert store.load("demo", PARAMS, on_stale="recompute") is None
+    with pytest.raises(R.StaleResultError, match=reason) as err:
+        store.load("demo", PARAMS, on_stale="error")
+    assert "make data" in str(err.value)
+    assert store.load("demo", PARAMS, on_stale="accept")["result"] == RESULT
+
+
+def test_record_under_another_name_is_refused(store):
+    path = store.save("demo", PARAMS, RESULT)
+    path.rename(store.path("demo", {**PARAMS, "a": 2.0}))
+    with pytest.raises(R.StaleResultError, match="parameters differ"):
+        store.load("demo", {**PARAMS, "a": 2.0})
+
+
+def test_bad_on_stale(store):
+    with pytest.raises(ValueError, match="on_stale"):
+        store.load("demo", PARAMS, on_stale="ignore")
+
+
+def test_non_finite_numbers_are_not_stored(store):
+    with pytest.raises(ValueError, match="non-finite"):
+        store.save("demo", PARAMS, {"t_c": float("nan")})
+
+
+def test_fingerprint_ignores_docstrings_and_comments_but_not_code():
+    def dump(src):
+        return ast.dump(R._strip_docstrings(ast.parse(src)))
+
+    base = 'def f(x):\n    """Eq (33)."""\n    return 2 * x\n'
+    assert dump(base) == dump('def f(x):\n    """Other words."""\n    # a comment\n'
+                              '    return 2 * x\n')
+    assert dump(base) != dump('def f(x):\n    """Eq (33)."""\n    return 3 * x\n')
+    assert R.code_fingerprint() == R.code_fingerprint(R.FINGERPRINTED)
+    assert R.code_fingerprint(R.FINGERPRINTED[:-1]) != R.code_fingerprint()

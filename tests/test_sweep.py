@@ -1,0 +1,198 @@
+"""Sweeps (section 6, Fig 10): scenes, the cache, executors, resuming, the command line."""
+
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+
+from dyntorsion import Rod
+from dyntorsion import results as R
+from dyntorsion import sweep as S
+from dyntorsion.buckling import Perturbation, critical_twist
+from dyntorsion.cli import main
+
+COARSE = {"kappa0": 10.0, "n_cells": 40, "dt": 0.01}
+RATES = (10.0, 4.0)
+
+
+def coarse(rates=RATES):
+    return [S.Scene(a=a, **COARSE) for a in rates]
+
+
+@pytest.fixture(scope="module")
+def serial(tmp_path_factory):
+    """The two-rate mini sweep, run live in this process."""
+    store = R.Store(tmp_path_factory.mktemp("serial"))
+    return store, S.run_sweep(coarse(), store, progress=False)
+
+
+def hashes(store):
+    return sorted((rec["key"], rec["hash"]) for rec in store.records(S.KIND))
+
+
+# ------------------------------------------------------------------ scenes
+@pytest.mark.parametrize("kw, name", [({"a": 0.0}, "a="), ({"a": float("inf")}, "a="),
+                                      ({"a": 1.0, "n_cells": 1}, "n_cells"),
+                                      ({"a": 1.0, "dt": -0.1}, "dt"),
+                                      ({"a": 1.0, "t_end": 0.0}, "t_end"),
+                                      ({"a": 1.0, "horizon": 0.0}, "horizon"),
+                                      ({"a": 1.0, "kappa0": 500.0}, "kappa0")])
+def test_scene_rejects_bad_input(kw, name):
+    with pytest.raises(ValueError, match=name):
+        S.Scene(**kw)
+
+
+def test_scene_horizon_rule():
+    sc = S.Scene(a=1.6, kappa0=0.0)
+    kc = critical_twist(sc.rod)
+    assert sc.kappa0 + sc.a * sc.duration() == pytest.approx(
+        kc + 3 * (S.paper_law(1.6, sc.rod) - kc))
+    assert S.Scene(a=1.6, t_end=7.0).duration() == 7.0
+
+
+def test_scene_params_name_everything():
+    base = S.Scene(a=1.6)
+    variants = [S.Scene(a=1.6, kappa0=0.0), S.Scene(a=1.6, rod=Rod(rho=5000.0)),
+                S.Scene(a=1.6, seed=Perturbation(1e-17)), S.Scene(a=1.6, n_cells=200),
+                S.Scene(a=1.6, dt=0.0025), S.Scene(a=1.6, window=(0.2, 0.5)),
+                S.Scene(a=1.6, t_end=30.0), S.Scene(a=1.7)]
+    keys = {R.key(S.KIND, sc.params()) for sc in [base, *variants]}
+    assert len(keys) == len(variants) + 1
+    assert S.Scene(a=1.6).params() == base.params()
+    assert S.Scene(a=2).params()["a"] == 2.0 and isinstance(S.Scene(a=2).a, float)
+
+
+def test_presets():
+    assert len(S.FIG10_RATES) >= 12
+    assert S.FIG10_RATES[-1] / S.FIG10_RATES[0] >= 100
+    assert any(abs(a - 1.6) < 1e-12 for a in S.FIG10_RATES)
+    assert np.all(np.diff(np.log(S.FIG10_RATES)) == pytest.approx(np.log(10) / 6))
+    fig10 = S.preset("fig10")
+    assert {sc.kappa0 for sc in fig10} == {10.0}
+    assert {sc.seed.magnitude for sc in fig10} == {1e-8}
+    assert {sc.seed.magnitude for sc in S.preset("fig10-tiny-seed")} == {1e-17}
+    assert [sc.rod.rho for sc in S.preset("fig08-09")] == [1500.0, 5000.0]
+    with pytest.raises(ValueError, match="preset="):
+        S.preset("fig11")
+
+
+# ------------------------------------------------------------------ the mini sweep
+def test_mini_sweep_regression(serial, num_regression):
+    _, table = serial
+    assert list(table["a"]) == list(RATES)  # rows in the order of the scenes
+    assert not table["cached"].any()
+    assert table["kappa3"].notna().all()
+    assert (table["kappa3"] > critical_twist(Rod())).all()
+    num_regression.check({c: table[c].to_numpy(float) for c in
+                          ("a", "t_c", "kappa3", "uncertainty_kappa3")},
+                         default_tolerance={"rtol": 1e-6})
+
+
+def test_second_run_reads_the_cache(serial, monkeypatch):
+    store, table = serial
+
+    def no(*args):
+        raise AssertionError("a cached scene was recomputed")
+
+    monkeypatch.setattr(S, "run_scene", no)
+    again = S.run_sweep(coarse(), store, progress=False)
+    assert again["cached"].all()
+    cols = ["t_c", "kappa3", "uncertainty_t", "key"]
+    assert again[cols].equals(table[cols])
+    only = S.run_sweep(coarse(), store, compute=False, on_stale="error", progress=False)
+    assert only[cols].equals(table[cols])
+
+
+def test_read_only_sweep_names_missing_scenes(tmp_path):
+    with pytest.raises(S.MissingResultError, match=r"(?s)a=3\.2 .*make data"):
+        S.run_sweep(coarse((3.2,)), tmp_path, compute=False, progress=False)
+
+
+def test_stale_scene_is_recomputed_or_refused(serial, tmp_path, monkeypatch):
+    store, table = serial
+    copy = R.Store(tmp_path)
+    for rec in store.records(S.KIND):
+        (tmp_path / f"{S.KIND}-{rec['key']}.json").write_text(
+            (store.root / f"{S.KIND}-{rec['key']}.json").read_text())
+    monkeypatch.setattr(R, "code_fingerprint", lambda *a: "changed-code")
+    with pytest.raises(R.StaleResultError, match="code fingerprint"):
+        S.run_sweep(coarse(), copy, on_stale="error", progress=False)
+    log = []
+    fresh = S.run_sweep(coarse(), copy, on_stale="recompute", progress=False, log=log.append)
+    assert not fresh["cached"].any()
+    assert sum("stale" in m for m in log) == 2
+    assert np.array_equal(fresh["kappa3"], table["kappa3"])
+    assert {r["provenance"]["code"] for r in copy.records()} == {"changed-code"}
+
+
+@pytest.mark.parametrize("how", ["processes", "dask"])
+def test_executors_give_the_same_records(serial, tmp_path, how):
+    store, _ = serial
+    other = R.Store(tmp_path)
+    if how == "processes":
+        S.run_sweep(coarse(), other, jobs=2, progress=False)
+    else:
+        distributed = pytest.importorskip("dask.distributed")
+        with distributed.LocalCluster(n_workers=2, threads_per_worker=1,
+                                      dashboard_address=None) as cluster, \
+                distributed.Client(cluster) as client:
+            S.run_sweep(coarse(), other, executor=client.get_executor(), progress=False)
+    assert hashes(other) == hashes(store)
+
+
+def test_killed_sweep_resumes_to_the_same_table(serial, tmp_path):
+    """SIGKILL a command-line sweep after its first scene is written, then resume."""
+    store, _ = serial
+    rates = (10.0, 4.0, 7.0)
+    cmd = [sys.executable, "-m", "dyntorsion", "sweep", "--rates", ",".join(map(str, rates)),
+           "--kappa0", "10", "--n-cells", "40", "--dt", "0.01", "--store", str(tmp_path),
+           "--quiet"]
+    proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    deadline = time.monotonic() + 120
+    while not list(tmp_path.glob("*.json")) and time.monotonic() < deadline:
+        if proc.poll() is not None:
+            break
+        time.sleep(0.02)
+    if proc.poll() is None:
+        os.kill(proc.pid, signal.SIGKILL)
+    proc.wait()
+    done_before = len(list(tmp_path.glob("*.json")))
+    assert done_before >= 1
+    resumed = S.run_sweep(coarse(rates), tmp_path, progress=False)
+    assert resumed["cached"].sum() == done_before
+    full = S.run_sweep(coarse(rates), store, progress=False)  # 10 and 4 cached, 7 computed
+    cols = ["a", "t_c", "kappa3", "uncertainty_kappa3", "key"]
+    assert resumed[cols].equals(full[cols])
+    assert not list(tmp_path.glob("*.tmp"))
+
+
+# ------------------------------------------------------------------ command line
+def test_cli_buckle_prints_the_onset(serial, capsys):
+    _, table = serial
+    assert main(["buckle", "--a", "10", "--kappa0", "10", "--n-cells", "40",
+                 "--dt", "0.01"]) == 0
+    out = capsys.readouterr().out
+    assert f"{table['kappa3'][0]:.4f}" in out and "t_c" in out
+
+
+def test_cli_sweep_reads_the_cache(serial, capsys):
+    store, table = serial
+    assert main(["sweep", "--rates", "10,4", "--kappa0", "10", "--n-cells", "40", "--dt",
+                 "0.01", "--store", str(store.root), "--quiet"]) == 0
+    out = capsys.readouterr().out
+    assert out.count("True") == 2 and f"{table['kappa3'][1]:.5g}" in out
+
+
+def test_cli_bad_input_names_the_parameter(capsys):
+    assert main(["buckle", "--a", "-1"]) == 2
+    assert "a=-1.0" in capsys.readouterr().err
+
+
+def test_python_m_entry_point():
+    out = subprocess.run([sys.executable, "-m", "dyntorsion", "--version"],
+                         capture_output=True, text=True, check=True).stdout
+    assert out.startswith("dyntorsion ")
