@@ -37,7 +37,8 @@ docs: paper
 ## data: recompute the cached scenes in data/scenes (Fig 10 sweeps, direct Fig 8/9 runs,
 ## grid check); scenes already cached and current are kept.  JOBS local processes.
 JOBS ?= 2
-DATA_PRESETS := fig10 fig10-tiny-seed fig08-09 fig08-09-tiny-seed fig10-grid fig10-grid-tiny-seed
+DATA_PRESETS := fig10 fig10-tiny-seed fig08-09 fig08-09-tiny-seed fig10-grid fig10-grid-tiny-seed \
+                accuracy-fig08 accuracy-fast newton-fig08 newton-fast
 data: $(VENV)/.test-installed
 	$(BIN)/dyntorsion sweep $(foreach p,$(DATA_PRESETS),--preset $(p)) --jobs $(JOBS)
 

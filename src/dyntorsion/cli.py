@@ -82,9 +82,11 @@ def _sweep_scenes(args: argparse.Namespace) -> list[Scene]:
 
 def _print_fit(table) -> None:
     ok = table.dropna(subset=["kappa3"])
-    for (rho, k0, seed, n, dt), grp in ok.groupby(["rho", "kappa0", "seed", "n_cells", "dt"]):
+    for _, grp in ok.groupby("family", sort=False):
+        grp = grp.loc[~grp["a"].round(9).duplicated()]
         if len(grp) < 4:
             continue
+        rho, k0, seed, n, dt = grp.iloc[0][["rho", "kappa0", "seed", "n_cells", "dt"]]
         rod = Rod(rho=rho)
         for mode in ("static", None):
             f = fit_power_law(grp["a"], grp["kappa3"], rod, kappa_cri=mode, n_boot=500)

@@ -28,7 +28,7 @@ import pandas as pd
 
 from .buckling import Perturbation, critical_twist, detect_onset, simulate
 from .genalpha import Newton, Scheme
-from .results import Store
+from .results import Store, digest
 from .rod import Rod
 
 __all__ = ["Scene", "run_scene", "run_sweep", "MissingResultError", "KIND", "DATA",
@@ -149,6 +149,7 @@ class MissingResultError(LookupError):
 
 def _row(scene: Scene, record: dict[str, Any], cached: bool) -> dict[str, Any]:
     res = record["result"]
+    family = {k: v for k, v in record["params"].items() if k not in ("a", "t_end")}
     return {"a": scene.a, "kappa0": scene.kappa0, "rho": scene.rod.rho,
             "seed": scene.seed.magnitude, "seed_form": scene.seed.form,
             "n_cells": scene.n_cells, "dt": scene.dt,
@@ -157,7 +158,7 @@ def _row(scene: Scene, record: dict[str, Any], cached: bool) -> dict[str, Any]:
             "uncertainty_kappa3": res["uncertainty_kappa3"],
             "stopped": res["stopped"], "steps": res["steps"],
             "wall_time_s": record["provenance"].get("wall_time_s"),
-            "key": record["key"], "cached": cached}
+            "key": record["key"], "family": digest(family)[:12], "cached": cached}
 
 
 def run_sweep(scenes: Sequence[Scene], store: Store | str | Path | None = None, *,
@@ -166,6 +167,10 @@ def run_sweep(scenes: Sequence[Scene], store: Store | str | Path | None = None, 
               progress: bool | None = None,
               log: Callable[[str], None] | None = None) -> pd.DataFrame:
     """Run (or read back) a sweep; one table row per scene, in the given order.
+
+    Scenes that differ only in the loading rate share a ``family`` (a hash of
+    their other parameters): one rate sweep, ready for
+    :func:`~dyntorsion.buckling.fit_power_law`.
 
     Scenes already in ``store`` (default :data:`DATA`) are read, not recomputed;
     the others run on ``executor`` (any :class:`concurrent.futures.Executor`, for
@@ -259,6 +264,21 @@ def _grid(seed: str) -> list[Scene]:
                                                                         n_cells=n, dt=dt)]
 
 
+#: the grid ladder of the accuracy-and-cost page: N x dt, Courant number 28.9 on the diagonal
+LADDER_N: tuple[int, ...] = (25, 50, 100, 200, 400)
+LADDER_DT: tuple[float, ...] = (0.02, 0.01, 0.005, 0.0025, 0.00125)
+#: Newton tolerances of the sensitivity study
+NEWTON_TOLS: tuple[float, ...] = (1e-3, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12)
+
+
+def _ladder(a: float, kappa0: float) -> list[Scene]:
+    return [Scene(a=a, kappa0=kappa0, n_cells=n, dt=dt) for n in LADDER_N for dt in LADDER_DT]
+
+
+def _newton(a: float, kappa0: float) -> list[Scene]:
+    return [Scene(a=a, kappa0=kappa0, newton=Newton(tol=tol)) for tol in NEWTON_TOLS]
+
+
 #: name -> function returning the scenes; ``make data`` runs them all
 PRESETS: dict[str, Callable[[], list[Scene]]] = {
     "fig10": lambda: _fig10("stated"),
@@ -267,6 +287,10 @@ PRESETS: dict[str, Callable[[], list[Scene]]] = {
     "fig08-09-tiny-seed": lambda: _fig08_09("tiny"),
     "fig10-grid": lambda: _grid("stated"),
     "fig10-grid-tiny-seed": lambda: _grid("tiny"),
+    "accuracy-fig08": lambda: _ladder(1.6, 0.0),
+    "accuracy-fast": lambda: _ladder(16.0, 10.0),
+    "newton-fig08": lambda: _newton(1.6, 0.0),
+    "newton-fast": lambda: _newton(16.0, 10.0),
 }
 
 
