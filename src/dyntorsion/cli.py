@@ -11,7 +11,8 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from . import __version__
+from . import __version__, fidelity
+from .fidelity import LEVELS
 from .buckling import Perturbation, critical_twist, fit_power_law
 from .results import ON_STALE, Store
 from .rod import Rod
@@ -30,8 +31,12 @@ def _scene_options(p: argparse.ArgumentParser, kappa0: float) -> None:
                    help="perturbation magnitude (N/m uniform, N for --seed-form point)")
     g.add_argument("--seed-form", choices=("uniform", "point"), default="uniform")
     g.add_argument("--seed-location", type=float, default=0.5, help="point seed position [m]")
+    g.add_argument("--fidelity", choices=LEVELS, default=None,
+                   help="grid preset (dyntorsion.fidelity); overrides --n-cells/--dt/--lam-*")
     g.add_argument("--n-cells", type=int, default=100, help="cells along the rod")
     g.add_argument("--dt", type=float, default=0.005, help="time step [s]")
+    g.add_argument("--lam-s", type=float, default=-1.0, help="lambda_inf in space, [-1, 0]")
+    g.add_argument("--lam-t", type=float, default=-1.0, help="lambda_inf in time, [-1, 0]")
     g.add_argument("--t-end", type=float, default=None,
                    help="end time [s] (default: 3x the paper's delay, eqs 33-34)")
 
@@ -39,8 +44,10 @@ def _scene_options(p: argparse.ArgumentParser, kappa0: float) -> None:
 def _scene(args: argparse.Namespace, a: float) -> Scene:
     rod = Rod(E=args.E, nu=args.nu, D=args.D, L=args.L, rho=args.rho)
     seed = Perturbation(magnitude=args.seed, form=args.seed_form, location=args.seed_location)
-    return Scene(a=a, kappa0=args.kappa0, rod=rod, seed=seed, n_cells=args.n_cells,
-                 dt=args.dt, t_end=args.t_end)
+    grid = fidelity.get("buckling", args.fidelity or fidelity.Fidelity(
+        args.n_cells, args.dt, lam_s=args.lam_s, lam_t=args.lam_t))
+    return Scene(a=a, kappa0=args.kappa0, rod=rod, seed=seed, t_end=args.t_end,
+                 **grid.simulate_kwargs())
 
 
 def _rates(text: str) -> list[float]:

@@ -1,0 +1,99 @@
+"""Fidelity presets: the grid and scheme of every expensive scene, by name.
+
+``quick`` is for CI and first looks, ``standard`` is what the figures use, and
+``paper`` gives grid-independent headline numbers.  The measured error and wall
+time of each preset are on the "Accuracy and cost" page of the documentation
+(errors against the exact solutions for the waves, against the finest grid of a
+ladder for the buckling onset).  An explicit :class:`Fidelity` is accepted
+wherever a preset name is::
+
+    from dyntorsion import fidelity, buckling
+    f = fidelity.get("buckling", "quick")            # or Fidelity(n_cells=80, dt=0.004)
+    run = buckling.simulate(a=1.6, t_end=30.0, **f.simulate_kwargs())
+
+``DYNTORSION_FIDELITY`` (environment) sets the level :func:`level` returns, so
+the notebooks can be built at ``quick`` fidelity.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass
+from typing import Any
+
+from .genalpha import Scheme, parameters
+
+__all__ = ["Fidelity", "LEVELS", "PRESETS", "get", "level"]
+
+LEVELS: tuple[str, ...] = ("quick", "standard", "paper")
+
+
+@dataclass(frozen=True)
+class Fidelity:
+    """Cells along the rod, time step [s], and lambda_infinity in space and time (eq 13)."""
+
+    n_cells: int
+    dt: float
+    lam_s: float = -1.0
+    lam_t: float = -1.0
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.n_cells, int) or self.n_cells < 2:
+            raise ValueError(f"n_cells={self.n_cells!r} must be an integer >= 2")
+        if not (math.isfinite(self.dt) and self.dt > 0):
+            raise ValueError(f"dt={self.dt!r} must be > 0")
+        for name in ("lam_s", "lam_t"):
+            try:
+                parameters(getattr(self, name))
+            except ValueError as err:
+                raise ValueError(f"{name}: {err}") from None
+
+    def scheme(self) -> Scheme:
+        return Scheme(lam_s=self.lam_s, lam_t=self.lam_t)
+
+    def simulate_kwargs(self) -> dict[str, Any]:
+        """Keywords for :func:`dyntorsion.buckling.simulate` and :class:`dyntorsion.sweep.Scene`."""
+        return {"n_cells": self.n_cells, "dt": self.dt, "scheme": self.scheme()}
+
+    def solve_kwargs(self) -> dict[str, Any]:
+        """Keywords for :func:`dyntorsion.waves.solve`."""
+        return {"n_cells": self.n_cells, "dt": self.dt, "lam_s": self.lam_s,
+                "lam_t": self.lam_t}
+
+    def courant(self, c: float, length: float) -> float:
+        return c * self.dt / (length / self.n_cells)
+
+
+#: scene family -> level -> Fidelity.  "waves": the smooth-release scene (Fig 6);
+#: "waves-incompatible": linear loading and instant release (Figs 3, 4), whose
+#: exact solutions jump, so finer grids; "buckling": Figs 7-10 and the sweeps.
+PRESETS: dict[str, dict[str, Fidelity]] = {
+    "waves": {"quick": Fidelity(50, 0.01), "standard": Fidelity(100, 0.005),
+              "paper": Fidelity(400, 0.00125)},
+    "waves-incompatible": {"quick": Fidelity(100, 0.005), "standard": Fidelity(500, 0.001),
+                           "paper": Fidelity(2000, 0.00025)},
+    "buckling": {"quick": Fidelity(50, 0.01), "standard": Fidelity(100, 0.005),
+                 "paper": Fidelity(200, 0.0025)},
+}
+
+
+def level() -> str:
+    """The fidelity level of this process: ``DYNTORSION_FIDELITY`` or ``"standard"``."""
+    name = os.environ.get("DYNTORSION_FIDELITY", "standard")
+    if name not in LEVELS:
+        raise ValueError(f"DYNTORSION_FIDELITY={name!r}; allowed: {', '.join(LEVELS)}")
+    return name
+
+
+def get(scene: str, fidelity: str | Fidelity | None = None) -> Fidelity:
+    """The :class:`Fidelity` of ``scene`` at a named level (default :func:`level`), or
+    ``fidelity`` itself when it is already one."""
+    if isinstance(fidelity, Fidelity):
+        return fidelity
+    if scene not in PRESETS:
+        raise ValueError(f"scene={scene!r}; allowed: {', '.join(PRESETS)}")
+    name = level() if fidelity is None else fidelity
+    if name not in LEVELS:
+        raise ValueError(f"fidelity={name!r}; allowed: {', '.join(LEVELS)} or a Fidelity")
+    return PRESETS[scene][name]
