@@ -11,23 +11,29 @@ $(PY):
 	$(PY) -m pip install --quiet --upgrade pip
 
 $(VENV)/.test-installed: pyproject.toml | $(PY)
-	$(PY) -m pip install --quiet -e '.[test]'
+	$(PY) -m pip install --quiet -e '.[test,docs]'
+	touch $@
+
+$(VENV)/.lint-installed: pyproject.toml | $(PY)
+	$(PY) -m pip install --quiet -e '.[lint]'
 	touch $@
 
 $(VENV)/.docs-installed: pyproject.toml | $(PY)
 	$(PY) -m pip install --quiet -e '.[test,docs]'
 	touch $@
 
-## test: the fast test suite (what CI runs)
+## test: the fast test suite, then every notebook of the site at quick fidelity (what CI runs)
 test: $(VENV)/.test-installed
 	$(PY) -m pytest -m "not slow" -q
+	DYNTORSION_FIDELITY=quick $(PY) -m sphinx -q -W --keep-going -b html docs docs/_build/quick
 
 ## test-all: every test, including the long `slow` ones
 test-all: $(VENV)/.test-installed
 	$(PY) -m pytest -q
 
-## paper: regenerate every figure and table and build the documentation site
-paper: $(VENV)/.docs-installed
+## paper: recompute missing or stale data, regenerate every figure (paper/figures) and
+## the at-a-glance numbers (paper/numbers.json), and build the documentation site
+paper: $(VENV)/.docs-installed data
 	$(PY) -m sphinx -W --keep-going -b html docs docs/_build/html
 	@echo
 	@echo "Site built: open docs/_build/html/index.html"
@@ -38,9 +44,15 @@ docs: paper
 ## grid check); scenes already cached and current are kept.  JOBS local processes.
 JOBS ?= 2
 DATA_PRESETS := fig10 fig10-tiny-seed fig08-09 fig08-09-tiny-seed fig10-grid fig10-grid-tiny-seed \
-                accuracy-fig08 accuracy-fast newton-fig08 newton-fast
+                accuracy-fig08 accuracy-fast newton-fig08 newton-fast fig08-seeds
 data: $(VENV)/.test-installed
 	$(BIN)/dyntorsion sweep $(foreach p,$(DATA_PRESETS),--preset $(p)) --jobs $(JOBS)
+
+## lint: ruff check and ruff format --check (CI runs it beside the tests)
+LINTED := src tests benchmarks docs/conf.py
+lint: $(VENV)/.lint-installed
+	$(BIN)/ruff check $(LINTED)
+	$(BIN)/ruff format --check $(LINTED)
 
 ## bench: engine benchmarks (timings are printed, never asserted)
 bench: $(VENV)/.test-installed

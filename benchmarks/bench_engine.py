@@ -42,8 +42,10 @@ def scene(n: int):
     model = Cosserat(Rod())
     system = model.system()
     kappa0, a = 10.0, 1.6
-    left = ga.Boundary(ga.Boundary.fields(system, ["u1", "u2", "u3", "w1", "w2", "k3"]).rows,
-                       lambda t: np.outer(kappa0 + a * t, [0, 0, 0, 0, 0, 1.0]))
+    left = ga.Boundary(
+        ga.Boundary.fields(system, ["u1", "u2", "u3", "w1", "w2", "k3"]).rows,
+        lambda t: np.outer(kappa0 + a * t, [0, 0, 0, 0, 0, 1.0]),
+    )
     right = ga.Boundary.fields(system, ["w1", "w2", "w3", "u1", "u2", "n3"])
     y = np.zeros((n + 1, 12))
     y[:, IDX["k3"]] = kappa0
@@ -60,23 +62,36 @@ def main() -> None:
         ys, _ = model.scales()
         y_bent = y + 1e-3 * ys * rng.normal(size=y.shape)
         iteration, blocks, rhs = ga.newton_iteration_kernel(
-            system, ga.Scheme(), n, 1.0, dt, left, right, y_bent)
+            system, ga.Scheme(), n, 1.0, dt, left, right, y_bent
+        )
         inner = max(1, 4000 // n)
-        t_iter = median_time(lambda inner=inner: iteration(inner), 7, 1) / inner
+        t_iter = median_time(lambda inner=inner, it=iteration: it(inner), 7, 1) / inner
         (lo, up), ab = _abd.to_banded(*blocks)
         b = rhs.copy()
-        t_band = median_time(lambda ab=ab, b=b, lo=lo, up=up: solve_banded((lo, up), ab, b), 7,
-                             inner)
+        t_band = median_time(
+            lambda ab=ab, b=b, lo=lo, up=up: solve_banded((lo, up), ab, b), 7, inner
+        )
         # one step of the real scene (includes Jacobian reuse and the step set-up)
         f = np.zeros((n + 1, 3))
         f[:, 0] = 1e-8
         steps = 400
-        run = ga.integrate(system, n_cells=n, length=1.0, dt=dt, t_end=steps * dt, y0=y,
-                           left=left, right=right, source=(model.external_force(f), None),
-                           record={"u3": ("u3", -1)})
+        run = ga.integrate(
+            system,
+            n_cells=n,
+            length=1.0,
+            dt=dt,
+            t_end=steps * dt,
+            y0=y,
+            left=left,
+            right=right,
+            source=(model.external_force(f), None),
+            record={"u3": ("u3", -1)},
+        )
         t_step = run.wall_time / run.steps
-        print(f"{n:<6d} {1e6 * t_iter:10.1f}  {1e6 * t_band:10.1f}  {t_iter / t_band:9.2f}"
-              f"  {1e6 * t_step:10.1f}  {1e6 * t_iter / (n + 1):12.3f}  {1 / t_step:7.0f}")
+        print(
+            f"{n:<6d} {1e6 * t_iter:10.1f}  {1e6 * t_band:10.1f}  {t_iter / t_band:9.2f}"
+            f"  {1e6 * t_step:10.1f}  {1e6 * t_iter / (n + 1):12.3f}  {1 / t_step:7.0f}"
+        )
 
 
 if __name__ == "__main__":

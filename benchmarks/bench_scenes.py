@@ -23,21 +23,33 @@ from dyntorsion import waves as w
 def main() -> None:
     print(f"dyntorsion {__version__}, Python {sys.version.split()[0]}, {platform.machine()}")
     b.simulate(a=1.6, n_cells=10, dt=0.05, t_end=0.2)  # compile outside the timing
-    walls, steps = [], 0
-    for _ in range(3):
-        run = b.simulate(a=1.6, n_cells=100, dt=0.005, t_end=40.0, on_failure="return")
-        walls.append(run.run.wall_time)
-        steps = run.run.steps
-    med = statistics.median(walls)
-    print(f"Fig 8 scene, N=100, dt=0.005: {med:.2f} s for {steps} steps "
-          f"({1e3 * med / steps:.2f} ms/step), t_c = {b.detect_onset(run).t_c:.3f} s")
+    # the standard grid, and the cheapest grids within 0.5 % and 0.1 % of the
+    # Richardson t_c (Accuracy and cost page, ladder `accuracy-fig08`)
+    for n, dt, note in (
+        (100, 0.005, "standard"),
+        (50, 0.02, "within 0.5 %"),
+        (100, 0.02, "within 0.1 %"),
+    ):
+        walls, steps = [], 0
+        for _ in range(3):
+            run = b.simulate(a=1.6, n_cells=n, dt=dt, t_end=40.0, on_failure="return")
+            walls.append(run.run.wall_time)
+            steps = run.run.steps
+        med = statistics.median(walls)
+        print(
+            f"Fig 8 scene, N={n}, dt={dt} ({note}): {med:.2f} s for {steps} steps "
+            f"({1e3 * med / steps:.2f} ms/step, {1e6 * med / steps / (n + 1):.1f} us per "
+            f"node and step), t_c = {b.detect_onset(run).t_c:.3f} s"
+        )
     for n, dt in ((100, 0.005), (1600, 0.005 / 16)):
         times = []
         for _ in range(3):
             sol = w.solve(w.SmoothRelease(10.0), n_cells=n, dt=dt, times=[0.01])
             times.append(sol.run.wall_time)
-        print(f"Fig 6 wave, N={n}, dt={dt:g}: {1e3 * statistics.median(times):.1f} ms, "
-              f"max error {sol.errors()['max'][0]:.2e}")
+        print(
+            f"Fig 6 wave, N={n}, dt={dt:g}: {1e3 * statistics.median(times):.1f} ms, "
+            f"max error {sol.errors()['max'][0]:.2e}"
+        )
 
 
 if __name__ == "__main__":

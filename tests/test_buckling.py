@@ -21,8 +21,9 @@ def test_critical_twist_table1():
     assert b.critical_twist(Rod.paper()) == pytest.approx(11.2335, abs=5e-5)
 
 
-@pytest.mark.parametrize("rod", [Rod.paper(), Rod(E=2e11, nu=0.3, D=0.01, L=3.0, rho=7800),
-                                 Rod(nu=0.45, L=0.4)])
+@pytest.mark.parametrize(
+    "rod", [Rod.paper(), Rod(E=2e11, nu=0.3, D=0.01, L=3.0, rho=7800), Rod(nu=0.45, L=0.4)]
+)
 def test_eq32_against_linear_stability(rod):
     """Smallest twist with a nontrivial static linearised solution = eq (32), to 1e-6."""
     numeric = b.critical_twist_numerical(rod)
@@ -39,16 +40,24 @@ def test_critical_twist_scales_like_the_formula():
 @pytest.fixture(scope="module")
 def coarse_run():
     """A short, coarse case: kappa0 = 10, a = 10 rad/s, N = 40, dt = 0.01 s."""
-    return b.simulate(a=10.0, kappa0=10.0, n_cells=40, dt=0.01, t_end=6.0, on_failure="return",
-                      snapshots=[0.0, 1.0])
+    return b.simulate(
+        a=10.0,
+        kappa0=10.0,
+        n_cells=40,
+        dt=0.01,
+        t_end=6.0,
+        on_failure="return",
+        snapshots=[0.0, 1.0],
+    )
 
 
 def test_coarse_onset_regression(coarse_run, num_regression):
     onset = b.detect_onset(coarse_run)
     assert onset.kappa3 > b.critical_twist(Rod.paper())  # delayed, as in the paper
-    num_regression.check({"t_c": [onset.t_c], "kappa3": [onset.kappa3],
-                          "uncertainty_t": [onset.uncertainty_t]},
-                         default_tolerance={"rtol": 1e-6, "atol": 1e-9})
+    num_regression.check(
+        {"t_c": [onset.t_c], "kappa3": [onset.kappa3], "uncertainty_t": [onset.uncertainty_t]},
+        default_tolerance={"rtol": 1e-6, "atol": 1e-9},
+    )
 
 
 def test_scene_records_what_the_issue_asks(coarse_run):
@@ -67,8 +76,9 @@ def test_straight_before_onset(coarse_run):
 
 
 def test_no_seed_stays_exactly_straight():
-    run = b.simulate(a=10.0, kappa0=10.0, n_cells=20, dt=0.02, t_end=3.0, perturbation=0.0,
-                     snapshots=[3.0])
+    run = b.simulate(
+        a=10.0, kappa0=10.0, n_cells=20, dt=0.02, t_end=3.0, perturbation=0.0, snapshots=[3.0]
+    )
     y = run.run.snapshots[-1]
     bent = np.delete(y, [5, 8], axis=1)  # all but w3, k3
     assert np.max(np.abs(bent)) == 0.0
@@ -82,14 +92,27 @@ def test_failure_keeps_the_computed_steps():
     from dyntorsion.genalpha import Newton
 
     with pytest.raises(ConvergenceError) as info:
-        b.simulate(a=10.0, kappa0=10.0, n_cells=20, dt=0.05, t_end=2.0,
-                   newton=Newton(max_iter=1, tol=1e-14))
+        b.simulate(
+            a=10.0,
+            kappa0=10.0,
+            n_cells=20,
+            dt=0.05,
+            t_end=2.0,
+            newton=Newton(max_iter=1, tol=1e-14),
+        )
     err = info.value
     assert err.t > 0 and err.residual > 0
     assert err.run is not None and err.run.steps == err.step - 1
     assert err.run.t[-1] == pytest.approx(err.t - 0.05)
-    partial = b.simulate(a=10.0, kappa0=10.0, n_cells=20, dt=0.05, t_end=2.0,
-                         newton=Newton(max_iter=1, tol=1e-14), on_failure="return")
+    partial = b.simulate(
+        a=10.0,
+        kappa0=10.0,
+        n_cells=20,
+        dt=0.05,
+        t_end=2.0,
+        newton=Newton(max_iter=1, tol=1e-14),
+        on_failure="return",
+    )
     assert partial.stopped.startswith("failed")
 
 
@@ -103,10 +126,15 @@ def test_perturbation_forms():
     assert np.trapezoid(pt[:, 0], s) == pytest.approx(2e-8)
 
 
-@pytest.mark.parametrize("kwargs, match", [
-    ({"perturbation": b.Perturbation(form="point", location=2.0)}, "location"),
-    ({"n_cells": 1}, "n_cells"), ({"a": float("nan")}, "a="), ({"on_failure": "ignore"}, "on_failure"),
-])
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [
+        ({"perturbation": b.Perturbation(form="point", location=2.0)}, "location"),
+        ({"n_cells": 1}, "n_cells"),
+        ({"a": float("nan")}, "a="),
+        ({"on_failure": "ignore"}, "on_failure"),
+    ],
+)
 def test_bad_input(kwargs, match):
     args = {"a": 1.0, "n_cells": 10, "dt": 0.01, "t_end": 0.02}
     with pytest.raises(ValueError, match=match):
@@ -128,9 +156,18 @@ def test_onset_of_a_synthetic_trace():
     t = np.linspace(0, 10, 2001)
     u = np.where(t < 6, 1e-9 * np.exp(t), 0.0) + np.where(t > 6, -0.5 * (t - 6), 0.0)
     u = np.where(t > 8, -1.0 + 0.9 * (t - 8), u)  # the peak, then a fall
-    run = b.BucklingRun(t=t, u3_end=u, kappa3_left=t, kappa3_right=t, omega3_left=0 * t,
-                        omega3_right=0 * t, theta_left=0 * t, run=None, rod=Rod.paper(),
-                        params={"a": 2.0, "kappa0": 1.0})
+    run = b.BucklingRun(
+        t=t,
+        u3_end=u,
+        kappa3_left=t,
+        kappa3_right=t,
+        omega3_left=0 * t,
+        omega3_right=0 * t,
+        theta_left=0 * t,
+        run=None,
+        rod=Rod.paper(),
+        params={"a": 2.0, "kappa0": 1.0},
+    )
     onset = b.detect_onset(run)
     assert onset.t_c == pytest.approx(6.0, abs=1e-3)
     assert onset.kappa3 == pytest.approx(13.0, abs=2e-3)
@@ -141,9 +178,12 @@ def test_onset_of_a_synthetic_trace():
 @pytest.mark.parametrize("rho", [1500.0, 5000.0], ids=["fig08", "fig09"])
 def test_paper_scene_onset_regression(rho, num_regression):
     """The full Fig 8 / Fig 9 scenes (kappa0 = 0, a = 1.6, default seed, N = 100, dt = 0.005)."""
-    run = b.simulate(Rod.paper().with_(rho=rho), a=1.6, n_cells=100, dt=0.005, t_end=45.0,
-                     on_failure="return")
+    run = b.simulate(
+        Rod.paper().with_(rho=rho), a=1.6, n_cells=100, dt=0.005, t_end=45.0, on_failure="return"
+    )
     onset = b.detect_onset(run)
     assert onset.kappa3 > b.critical_twist(Rod.paper())
-    num_regression.check({"t_c": [onset.t_c], "kappa3": [onset.kappa3]},
-                         default_tolerance={"rtol": 1e-6, "atol": 1e-9})
+    num_regression.check(
+        {"t_c": [onset.t_c], "kappa3": [onset.kappa3]},
+        default_tolerance={"rtol": 1e-6, "atol": 1e-9},
+    )

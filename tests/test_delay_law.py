@@ -57,14 +57,17 @@ def test_fit_is_reproducible():
     assert f1.bootstrap == f2.bootstrap and f1.b == f2.b
 
 
-@pytest.mark.parametrize("kw, msg", [
-    ({"a": [1.0, 2.0], "kappa3": [20.0]}, "one length"),
-    ({"a": [0.0, 1.0, 2.0, 3.0], "kappa3": [12, 13, 14, 15]}, "a must be > 0"),
-    ({"a": [1.0, 2.0, 3.0], "kappa3": [12, 13, 14], "kappa_cri": None}, "at least 4"),
-    ({"a": [1.0, 2.0, 3.0], "kappa3": [12, np.nan, 14]}, "finite"),
-    ({"a": [1.0, 2.0, 3.0], "kappa3": [12, 13, 14], "kappa_cri": "paper"}, "kappa_cri="),
-    ({"a": [1.0, 2.0, 3.0], "kappa3": [12, 13, 14], "confidence": 1.0}, "confidence"),
-])
+@pytest.mark.parametrize(
+    "kw, msg",
+    [
+        ({"a": [1.0, 2.0], "kappa3": [20.0]}, "one length"),
+        ({"a": [0.0, 1.0, 2.0, 3.0], "kappa3": [12, 13, 14, 15]}, "a must be > 0"),
+        ({"a": [1.0, 2.0, 3.0], "kappa3": [12, 13, 14], "kappa_cri": None}, "at least 4"),
+        ({"a": [1.0, 2.0, 3.0], "kappa3": [12, np.nan, 14]}, "finite"),
+        ({"a": [1.0, 2.0, 3.0], "kappa3": [12, 13, 14], "kappa_cri": "paper"}, "kappa_cri="),
+        ({"a": [1.0, 2.0, 3.0], "kappa3": [12, 13, 14], "confidence": 1.0}, "confidence"),
+    ],
+)
 def test_fit_rejects_bad_input(kw, msg):
     with pytest.raises(ValueError, match=msg):
         fit_power_law(rod=ROD, **kw)
@@ -94,10 +97,19 @@ def test_committed_fit_regression(sweep, num_regression):
     fixed = fit_power_law(table["a"], table["kappa3"], ROD, n_boot=500)
     free = fit_power_law(table["a"], table["kappa3"], ROD, kappa_cri=None, n_boot=500)
     num_regression.check(
-        {"b": fixed.b, "sigma": fixed.sigma, "b_err": fixed.b_err, "sigma_err": fixed.sigma_err,
-         "b_free": free.b, "sigma_free": free.sigma, "kappa_cri_free": free.kappa_cri,
-         "kappa_cri_free_err": free.kappa_cri_err},
-        default_tolerance={"rtol": 1e-6}, basename=f"fit_{name}")
+        {
+            "b": fixed.b,
+            "sigma": fixed.sigma,
+            "b_err": fixed.b_err,
+            "sigma_err": fixed.sigma_err,
+            "b_free": free.b,
+            "sigma_free": free.sigma,
+            "kappa_cri_free": free.kappa_cri,
+            "kappa_cri_free_err": free.kappa_cri_err,
+        },
+        default_tolerance={"rtol": 1e-6},
+        basename=f"fit_{name}",
+    )
 
 
 def test_free_fit_misses_the_static_twist_by_the_power_laws_curvature(sweep):

@@ -50,8 +50,9 @@ def test_energy_is_conserved_at_lambda_minus_one_over_1e5_steps():
     assert np.ptp(E) < 1e-9 * E0
 
 
-@pytest.mark.parametrize("lam_t, courant", list(itertools.product((-0.9, -0.5, 0.0),
-                                                                  (0.01, 1.0, 1000.0))))
+@pytest.mark.parametrize(
+    "lam_t, courant", list(itertools.product((-0.9, -0.5, 0.0), (0.01, 1.0, 1000.0)))
+)
 def test_energy_never_grows_with_damping(lam_t, courant):
     sol, E = release_run(lam_t, 50, courant, 20_000)
     assert np.all(np.isfinite(sol.kappa)) and np.all(np.isfinite(sol.omega))
@@ -77,8 +78,7 @@ def test_lambda_in_space_other_than_minus_one_warns(lam_s):
 
 
 # ------------------------------------------------------------------ the nonlinear rod
-EXTREMES = list(itertools.product((1e-3, 1e3), (10.0, 1e5), (2, 20), (0.01, 1000.0),
-                                  (-1.0, 0.0)))
+EXTREMES = list(itertools.product((1e-3, 1e3), (10.0, 1e5), (2, 20), (0.01, 1000.0), (-1.0, 0.0)))
 
 
 @pytest.mark.parametrize("a, rho, n_cells, courant, lam_t", EXTREMES)
@@ -87,8 +87,17 @@ def test_buckling_scene_is_sound_or_says_why(a, rho, n_cells, courant, lam_t):
     dt = courant * (rod.L / n_cells) / rod.c
     t_end = min(200 * dt, 60.0 / a)
     try:
-        run = simulate(rod, a=a, kappa0=10.0, n_cells=n_cells, dt=dt, t_end=t_end,
-                       scheme=Scheme(lam_t=lam_t), stop_at_contact=False, progress=False)
+        run = simulate(
+            rod,
+            a=a,
+            kappa0=10.0,
+            n_cells=n_cells,
+            dt=dt,
+            t_end=t_end,
+            scheme=Scheme(lam_t=lam_t),
+            stop_at_contact=False,
+            progress=False,
+        )
     except ConvergenceError as err:
         assert math.isfinite(err.t) and 0 < err.t <= t_end + dt
         assert err.iterations >= 1 and err.residual > 0
@@ -104,8 +113,9 @@ def test_buckling_scene_is_sound_or_says_why(a, rho, n_cells, courant, lam_t):
 @pytest.mark.slow
 def test_1e5_steps_of_the_prebuckling_rod():
     """100 s of slow twisting below the critical twist at dt = 1e-3: straight, finite."""
-    run = simulate(a=0.01, kappa0=10.0, n_cells=20, dt=1e-3, t_end=100.0,
-                   stop_at_contact=False, progress=False)
+    run = simulate(
+        a=0.01, kappa0=10.0, n_cells=20, dt=1e-3, t_end=100.0, stop_at_contact=False, progress=False
+    )
     assert run.t.size == 100_001
     assert np.all(np.isfinite(run.u3_end)) and np.max(np.abs(run.u3_end)) < 1e-6
     np.testing.assert_allclose(run.kappa3_left, 10.0 + 0.01 * run.t, rtol=1e-12)

@@ -14,14 +14,21 @@ def test_levels_refine_monotonically():
     for scene, levels in fidelity.PRESETS.items():
         assert tuple(levels) == fidelity.LEVELS, scene
         grids = [levels[name] for name in fidelity.LEVELS]
-        assert all(g1.n_cells < g2.n_cells and g1.dt > g2.dt
-                   for g1, g2 in zip(grids[:-1], grids[1:], strict=True)), scene
+        assert all(
+            g1.n_cells < g2.n_cells and g1.dt > g2.dt
+            for g1, g2 in zip(grids[:-1], grids[1:], strict=True)
+        ), scene
 
 
-@pytest.mark.parametrize("kw, name", [({"n_cells": 1, "dt": 0.01}, "n_cells"),
-                                      ({"n_cells": 10, "dt": 0.0}, "dt"),
-                                      ({"n_cells": 10, "dt": 0.01, "lam_t": 0.5}, "lam_t"),
-                                      ({"n_cells": 10, "dt": 0.01, "lam_s": -1.5}, "lam_s")])
+@pytest.mark.parametrize(
+    "kw, name",
+    [
+        ({"n_cells": 1, "dt": 0.01}, "n_cells"),
+        ({"n_cells": 10, "dt": 0.0}, "dt"),
+        ({"n_cells": 10, "dt": 0.01, "lam_t": 0.5}, "lam_t"),
+        ({"n_cells": 10, "dt": 0.01, "lam_s": -1.5}, "lam_s"),
+    ],
+)
 def test_bad_fidelity(kw, name):
     with pytest.raises(ValueError, match=name):
         Fidelity(**kw)
@@ -85,5 +92,6 @@ def test_wave_presets_converge_to_the_exact_release():
     assert errs[0] > errs[1] > errs[2]
     ratio = fidelity.get("waves", "standard").n_cells / fidelity.get("waves", "quick").n_cells
     order = np.log(errs[1] / errs[2]) / np.log(
-        fidelity.get("waves", "paper").n_cells / fidelity.get("waves", "standard").n_cells)
+        fidelity.get("waves", "paper").n_cells / fidelity.get("waves", "standard").n_cells
+    )
     assert ratio == 2 and 1.7 < order < 2.3

@@ -83,8 +83,12 @@ def _smooth_wave(c, kx=2.3):
     def exact(s, t):
         s = np.asarray(s)[:, None]
         return np.concatenate(
-            [np.sin(kx * s + 0.3) * np.cos(w * t + 0.1),
-             c * np.cos(kx * s + 0.3) * np.sin(w * t + 0.1)], axis=1)
+            [
+                np.sin(kx * s + 0.3) * np.cos(w * t + 0.1),
+                c * np.cos(kx * s + 0.3) * np.sin(w * t + 0.1),
+            ],
+            axis=1,
+        )
 
     return exact
 
@@ -97,14 +101,27 @@ def test_second_order_in_time_wave_exact(lam_t):
     exact = _smooth_wave(model.rod.c)
     T, n = 3.0 / model.rod.c, 400
     s = np.linspace(0, 1, n + 1)
-    left = ga.Boundary.fields(system, ["k3"], lambda t: np.array([exact([0.0], x)[0, :1] for x in t]))
-    right = ga.Boundary.fields(system, ["w3"], lambda t: np.array([exact([1.0], x)[0, 1:] for x in t]))
+    left = ga.Boundary.fields(
+        system, ["k3"], lambda t: np.array([exact([0.0], x)[0, :1] for x in t])
+    )
+    right = ga.Boundary.fields(
+        system, ["w3"], lambda t: np.array([exact([1.0], x)[0, 1:] for x in t])
+    )
     dts = T / np.array([16, 32, 64, 128])
     err = []
     for dt in dts:
-        run = ga.integrate(system, n_cells=n, length=1.0, dt=dt, t_end=T, y0=exact(s, 0.0),
-                           y_t0=(exact(s, 1e-7) - exact(s, -1e-7)) / 2e-7, left=left,
-                           right=right, scheme=ga.Scheme(-1.0, lam_t))
+        run = ga.integrate(
+            system,
+            n_cells=n,
+            length=1.0,
+            dt=dt,
+            t_end=T,
+            y0=exact(s, 0.0),
+            y_t0=(exact(s, 1e-7) - exact(s, -1e-7)) / 2e-7,
+            left=left,
+            right=right,
+            scheme=ga.Scheme(-1.0, lam_t),
+        )
         err.append(np.max(np.abs(run.y - exact(s, T)) / model.scales()[0]))
     assert slope(dts, err) == pytest.approx(2.0, abs=0.1)
 
@@ -124,11 +141,18 @@ def _pulse_run(lam_t, courant, steps, n=60):
     y0 = _pulse(n)
     dt = courant * (1.0 / n) / model.rod.c
     every = steps // 10
-    run = ga.integrate(system, n_cells=n, length=1.0, dt=dt, t_end=steps * dt, y0=y0,
-                       left=ga.Boundary.fields(system, ["w3"]),
-                       right=ga.Boundary.fields(system, ["w3"]),
-                       scheme=ga.Scheme(-1.0, lam_t),
-                       snapshots=list(dt * np.arange(0, steps + 1, every)))
+    run = ga.integrate(
+        system,
+        n_cells=n,
+        length=1.0,
+        dt=dt,
+        t_end=steps * dt,
+        y0=y0,
+        left=ga.Boundary.fields(system, ["w3"]),
+        right=ga.Boundary.fields(system, ["w3"]),
+        scheme=ga.Scheme(-1.0, lam_t),
+        snapshots=list(dt * np.arange(0, steps + 1, every)),
+    )
     energy = np.array([model.energy(y, 1.0 / n) for y in run.snapshots])
     return run, energy
 
@@ -164,11 +188,30 @@ def test_spatial_damping_is_unstable():
     bc = ga.Boundary.fields(system, ["w3"])
     dt = 0.1 / n / model.rod.c
     with pytest.raises(ga.ConvergenceError, match="t="):
-        ga.integrate(system, n_cells=n, length=1.0, dt=dt, t_end=100 * dt, y0=y0, left=bc,
-                     right=bc, scheme=scheme)
+        ga.integrate(
+            system,
+            n_cells=n,
+            length=1.0,
+            dt=dt,
+            t_end=100 * dt,
+            y0=y0,
+            left=bc,
+            right=bc,
+            scheme=scheme,
+        )
     dt = 100.0 / n / model.rod.c
-    run = ga.integrate(system, n_cells=n, length=1.0, dt=dt, t_end=2000 * dt, y0=y0, left=bc,
-                       right=bc, scheme=scheme, snapshots=[0.0, 2000 * dt])
+    run = ga.integrate(
+        system,
+        n_cells=n,
+        length=1.0,
+        dt=dt,
+        t_end=2000 * dt,
+        y0=y0,
+        left=bc,
+        right=bc,
+        scheme=scheme,
+        snapshots=[0.0, 2000 * dt],
+    )
     e0, e1 = (model.energy(y, 1.0 / n) for y in run.snapshots)
     assert e1 > 1.05 * e0
 
@@ -181,16 +224,28 @@ def _buckling_like(quadrature, n=16, dt=2e-3, t_end=0.3, scheme=None, newton=Non
     kappa0, a = 20.0, 20.0
     y0 = np.zeros((n + 1, 12))
     y0[:, IDX["k3"]] = kappa0
-    left = ga.Boundary(ga.Boundary.fields(system, ["u1", "u2", "u3", "w1", "w2", "k3"]).rows,
-                       lambda t: np.outer(kappa0 + a * t, [0, 0, 0, 0, 0, 1.0]))
+    left = ga.Boundary(
+        ga.Boundary.fields(system, ["u1", "u2", "u3", "w1", "w2", "k3"]).rows,
+        lambda t: np.outer(kappa0 + a * t, [0, 0, 0, 0, 0, 1.0]),
+    )
     right = ga.Boundary.fields(system, ["w1", "w2", "w3", "u1", "u2", "n3"])
     f = np.zeros((n + 1, 3))
     f[:, 0] = 1e-4
     times = list(np.arange(0, t_end + 1e-12, 0.05))
-    run = ga.integrate(system, n_cells=n, length=1.0, dt=dt, t_end=t_end, y0=y0, left=left,
-                       right=right, scheme=scheme or ga.Scheme(quadrature=quadrature),
-                       source=(model.external_force(f), None), snapshots=times,
-                       newton=newton or ga.Newton(tol=1e-12))
+    run = ga.integrate(
+        system,
+        n_cells=n,
+        length=1.0,
+        dt=dt,
+        t_end=t_end,
+        y0=y0,
+        left=left,
+        right=right,
+        scheme=scheme or ga.Scheme(quadrature=quadrature),
+        source=(model.external_force(f), None),
+        snapshots=times,
+        newton=newton or ga.Newton(tol=1e-12),
+    )
     return model, system, run
 
 
@@ -205,8 +260,10 @@ def test_trapezoidal_rule_keeps_inextensibility_at_every_level():
 def test_midpoint_rule_keeps_inextensibility_only_on_average():
     model, system, run = _buckling_like("midpoint")
     ds = 1.0 / 16
-    worst = max(np.max(np.abs(ga.algebraic_residual(system, y, ds, ga.Scheme(
-        quadrature="midpoint")))) for y in run.snapshots)
+    worst = max(
+        np.max(np.abs(ga.algebraic_residual(system, y, ds, ga.Scheme(quadrature="midpoint"))))
+        for y in run.snapshots
+    )
     assert worst / model.scales()[1][9] > 1e-6  # not satisfied at the levels themselves
     assert np.max(np.abs(run.snapshots[-1][:, :3])) > 1e-2  # the rod is really moving
 
@@ -215,15 +272,26 @@ def test_midpoint_rule_keeps_inextensibility_only_on_average():
 def _tiny_problem():
     system = Torsion().system()
     n = 4
-    return system, dict(n_cells=n, length=1.0, dt=1e-3, t_end=1e-2, y0=np.zeros((n + 1, 2)),
-                        left=ga.Boundary.fields(system, ["w3"]),
-                        right=ga.Boundary.fields(system, ["w3"]))
+    return system, dict(
+        n_cells=n,
+        length=1.0,
+        dt=1e-3,
+        t_end=1e-2,
+        y0=np.zeros((n + 1, 2)),
+        left=ga.Boundary.fields(system, ["w3"]),
+        right=ga.Boundary.fields(system, ["w3"]),
+    )
 
 
 @pytest.mark.parametrize(
     "change,match",
-    [({"dt": 0.0}, "dt="), ({"dt": -1.0}, "dt="), ({"n_cells": 1}, "n_cells="),
-     ({"t_end": 0.0}, "t_end="), ({"length": float("nan")}, "length=")],
+    [
+        ({"dt": 0.0}, "dt="),
+        ({"dt": -1.0}, "dt="),
+        ({"n_cells": 1}, "n_cells="),
+        ({"t_end": 0.0}, "t_end="),
+        ({"length": float("nan")}, "length="),
+    ],
 )
 def test_bad_input_is_named(change, match):
     system, kw = _tiny_problem()
@@ -277,12 +345,23 @@ def test_max_iter_failure_raises_convergence_error():
     system = model.system()
     n = 8
     y0 = np.zeros((n + 1, 12))
-    left = ga.Boundary(ga.Boundary.fields(system, ["u1", "u2", "u3", "w1", "w2", "k3"]).rows,
-                       lambda t: np.outer(500.0 * t, [1e-3, 0, 0, 0, 0, 1.0]))
+    left = ga.Boundary(
+        ga.Boundary.fields(system, ["u1", "u2", "u3", "w1", "w2", "k3"]).rows,
+        lambda t: np.outer(500.0 * t, [1e-3, 0, 0, 0, 0, 1.0]),
+    )
     right = ga.Boundary.fields(system, ["w1", "w2", "w3", "u1", "u2", "n3"])
     with pytest.raises(ga.ConvergenceError) as info:
-        ga.integrate(system, n_cells=n, length=1.0, dt=1e-2, t_end=0.1, y0=y0, left=left,
-                     right=right, newton=ga.Newton(max_iter=1, reuse=False))
+        ga.integrate(
+            system,
+            n_cells=n,
+            length=1.0,
+            dt=1e-2,
+            t_end=0.1,
+            y0=y0,
+            left=left,
+            right=right,
+            newton=ga.Newton(max_iter=1, reuse=False),
+        )
     e = info.value
     assert e.step >= 1 and e.t == pytest.approx(e.step * 1e-2) and e.iterations >= 1
     assert np.isfinite(e.residual)
@@ -294,18 +373,32 @@ def test_records_snapshots_and_stop():
     n = 20
     y0 = _pulse(n, centre=0.5, width=0.1)
     dt = 1e-4
-    kw = dict(n_cells=n, length=1.0, dt=dt, t_end=100 * dt, y0=y0,
-              left=ga.Boundary.fields(system, ["w3"]), right=ga.Boundary.fields(system, ["w3"]))
+    kw = dict(
+        n_cells=n,
+        length=1.0,
+        dt=dt,
+        t_end=100 * dt,
+        y0=y0,
+        left=ga.Boundary.fields(system, ["w3"]),
+        right=ga.Boundary.fields(system, ["w3"]),
+    )
     full = ga.integrate(system, record={"k_mid": ("k3", 10)}, **kw)
-    sparse = ga.integrate(system, record={"k_mid": ("k3", 10)}, record_every=7,
-                          snapshots=[0.0, 50 * dt], check_every=13, **kw)
+    sparse = ga.integrate(
+        system,
+        record={"k_mid": ("k3", 10)},
+        record_every=7,
+        snapshots=[0.0, 50 * dt],
+        check_every=13,
+        **kw,
+    )
     assert full.t.size == 101 and np.allclose(full.t, dt * np.arange(101))
     assert np.allclose(sparse.t, dt * np.r_[0, np.arange(7, 101, 7)])
     assert np.array_equal(sparse["k_mid"], full["k_mid"][np.r_[0, np.arange(7, 101, 7)]])
     assert np.array_equal(sparse.y, full.y)  # chunking does not change the numbers
     assert sparse.snapshot(50 * dt)[10, 0] == full["k_mid"][50]
-    stopped = ga.integrate(system, stop=lambda t, y: "half" if t >= 50 * dt else None,
-                           check_every=10, **kw)
+    stopped = ga.integrate(
+        system, stop=lambda t, y: "half" if t >= 50 * dt else None, check_every=10, **kw
+    )
     assert stopped.stopped == "half" and stopped.steps == 50
 
 
@@ -316,7 +409,8 @@ def test_failed_step_is_retried_and_gives_the_same_answer():
     assert np.array_equal(run.y, again.y)  # deterministic
     scheme = ga.Scheme(-1.0, -0.9)
     model, _, reuse = _buckling_like("trapezoidal", t_end=0.4, scheme=scheme)
-    _, _, full = _buckling_like("trapezoidal", t_end=0.4, scheme=scheme,
-                                newton=ga.Newton(tol=1e-12, reuse=False))
+    _, _, full = _buckling_like(
+        "trapezoidal", t_end=0.4, scheme=scheme, newton=ga.Newton(tol=1e-12, reuse=False)
+    )
     assert reuse.retries.sum() >= 1  # this scene needs the fallback at dt = 2e-3
     assert np.max(np.abs(reuse.y - full.y) / model.scales()[0]) < 1e-8

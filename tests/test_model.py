@@ -74,11 +74,19 @@ def test_uniform_twist_is_an_exact_discrete_equilibrium():
     n, kappa0 = 20, 7.3
     y0 = np.zeros((n + 1, 12))
     y0[:, IDX["k3"]] = kappa0
-    left = ga.Boundary.fields(system, ["u1", "u2", "u3", "w1", "w2", "k3"],
-                              [0, 0, 0, 0, 0, kappa0])
+    left = ga.Boundary.fields(system, ["u1", "u2", "u3", "w1", "w2", "k3"], [0, 0, 0, 0, 0, kappa0])
     right = ga.Boundary.fields(system, ["w1", "w2", "w3", "u1", "u2", "n3"])
-    run = ga.integrate(system, n_cells=n, length=1.0, dt=1e-3, t_end=10.0, y0=y0, left=left,
-                       right=right, record={"u3": ("u3", -1)})
+    run = ga.integrate(
+        system,
+        n_cells=n,
+        length=1.0,
+        dt=1e-3,
+        t_end=10.0,
+        y0=y0,
+        left=left,
+        right=right,
+        record={"u3": ("u3", -1)},
+    )
     assert run.steps == 10_000
     assert np.max(run.residuals) <= 1e-14
     others = np.delete(run.y, IDX["k3"], axis=1)

@@ -36,9 +36,12 @@ def test_missing_record_is_none(store):
 
 
 def test_key_depends_on_every_parameter():
-    keys = {R.key("demo", PARAMS), R.key("other", PARAMS),
-            R.key("demo", {**PARAMS, "a": 1.6000000000000003}),
-            R.key("demo", {**PARAMS, "grid": {"n_cells": 100, "dt": 0.0025}})}
+    keys = {
+        R.key("demo", PARAMS),
+        R.key("other", PARAMS),
+        R.key("demo", {**PARAMS, "a": 1.6000000000000003}),
+        R.key("demo", {**PARAMS, "grid": {"n_cells": 100, "dt": 0.0025}}),
+    }
     assert len(keys) == 4
     assert R.key("demo", dict(reversed(list(PARAMS.items())))) == R.key("demo", PARAMS)
 
@@ -72,8 +75,10 @@ def test_edited_record_is_refused(store):
         store.load("demo", PARAMS)
 
 
-@pytest.mark.parametrize("field, value, reason", [("code", "0000000000000000", "fingerprint"),
-                                                  ("package_version", "0.0.1", "version")])
+@pytest.mark.parametrize(
+    "field, value, reason",
+    [("code", "0000000000000000", "fingerprint"), ("package_version", "0.0.1", "version")],
+)
 def test_stale_record(store, field, value, reason):
     path = store.save("demo", PARAMS, RESULT)
     rec = json.loads(path.read_text())
@@ -108,8 +113,24 @@ def test_fingerprint_ignores_docstrings_and_comments_but_not_code():
         return ast.dump(R._strip_docstrings(ast.parse(src)))
 
     base = 'def f(x):\n    """Eq (33)."""\n    return 2 * x\n'
-    assert dump(base) == dump('def f(x):\n    """Other words."""\n    # a comment\n'
-                              '    return 2 * x\n')
+    assert dump(base) == dump(
+        'def f(x):\n    """Other words."""\n    # a comment\n    return 2 * x\n'
+    )
     assert dump(base) != dump('def f(x):\n    """Eq (33)."""\n    return 3 * x\n')
+    assert R._source_digest("dyntorsion.results") == R._source_digest("dyntorsion.results")
     assert R.code_fingerprint() == R.code_fingerprint(R.FINGERPRINTED)
     assert R.code_fingerprint(R.FINGERPRINTED[:-1]) != R.code_fingerprint()
+
+
+def test_fingerprint_ignores_import_order(tmp_path, monkeypatch):
+    pkg = tmp_path / "fp_demo"
+    pkg.mkdir()
+    (pkg / "__init__.py").write_text("")
+    (pkg / "a.py").write_text("import math\nimport os\n\n\ndef f():\n    return math.pi\n")
+    (pkg / "b.py").write_text(
+        "import os\nimport math\n\n\ndef f():\n    # same code\n    return math.pi\n"
+    )
+    (pkg / "c.py").write_text("import os\nimport math\n\n\ndef f():\n    return math.e\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    da, db, dc = (R._source_digest(f"fp_demo.{m}") for m in "abc")
+    assert da == db != dc

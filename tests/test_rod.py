@@ -27,8 +27,17 @@ def test_derived_follow_changes():
 
 @pytest.mark.parametrize(
     "name,value",
-    [("E", 0.0), ("E", -1.0), ("nu", -1.0), ("nu", 0.6), ("D", 0.0), ("L", -2.0),
-     ("rho", 0.0), ("E", float("nan")), ("L", float("inf"))],
+    [
+        ("E", 0.0),
+        ("E", -1.0),
+        ("nu", -1.0),
+        ("nu", 0.6),
+        ("D", 0.0),
+        ("L", -2.0),
+        ("rho", 0.0),
+        ("E", float("nan")),
+        ("L", float("inf")),
+    ],
 )
 def test_bad_parameters_name_the_parameter(name, value):
     with pytest.raises(ValueError, match=rf"\b{name}=.*allowed range"):

@@ -9,18 +9,25 @@ from dyntorsion import shapes
 
 
 def test_rodrigues_matches_scipy(rng):
-    x = np.vstack([rng.normal(size=(50, 3)) * 2, rng.normal(size=(10, 3)) * 1e-7,
-                   [[0, 0, 0], [1e-300, 0, 0], [np.pi, 0, 0]]])
-    np.testing.assert_allclose(shapes.rodrigues(x), Rotation.from_rotvec(-x).as_matrix(),
-                               atol=4e-16 * 4)
+    x = np.vstack(
+        [
+            rng.normal(size=(50, 3)) * 2,
+            rng.normal(size=(10, 3)) * 1e-7,
+            [[0, 0, 0], [1e-300, 0, 0], [np.pi, 0, 0]],
+        ]
+    )
+    np.testing.assert_allclose(
+        shapes.rodrigues(x), Rotation.from_rotvec(-x).as_matrix(), atol=4e-16 * 4
+    )
 
 
 def test_rodrigues_is_orthogonal_and_continuous_at_small_angles():
     th = np.logspace(-9, -2, 40)
     x = np.outer(th, [0.3, -0.4, np.sqrt(0.75)])
     R = shapes.rodrigues(x)
-    np.testing.assert_allclose(R @ np.swapaxes(R, -1, -2), np.broadcast_to(np.eye(3), R.shape),
-                               atol=2e-16 * 4)
+    np.testing.assert_allclose(
+        R @ np.swapaxes(R, -1, -2), np.broadcast_to(np.eye(3), R.shape), atol=2e-16 * 4
+    )
     np.testing.assert_allclose(R, Rotation.from_rotvec(-x).as_matrix(), atol=1e-16 * 4)
 
 
@@ -44,16 +51,28 @@ def test_helix_from_constant_curvature():
 def routes_discrepancy(n_cells):
     """Both routes on a run past the onset (every step kept); returns the largest distance
     between their centrelines, the deflection, and the time route's frames."""
-    bent = b.simulate(a=10.0, kappa0=10.0, n_cells=n_cells, dt=0.01, t_end=2.0,
-                      perturbation=1e-4, snapshots=list(np.arange(0.0, 2.001, 0.01)))
+    bent = b.simulate(
+        a=10.0,
+        kappa0=10.0,
+        n_cells=n_cells,
+        dt=0.01,
+        t_end=2.0,
+        perturbation=1e-4,
+        snapshots=list(np.arange(0.0, 2.001, 0.01)),
+    )
     run = bent.run
     ds = run.s[1] - run.s[0]
     R0 = shapes.frames_along(run.snapshots[0][:, 6:9], ds)
     tracker = shapes.FrameTracker(R0, shapes.centreline(R0, ds))
     for i in range(1, len(run.snapshot_times)):
         old, new = run.snapshots[i - 1], run.snapshots[i]
-        tracker.step(old[:, 3:6], new[:, 3:6], old[:, 0:3], new[:, 0:3],
-                     run.snapshot_times[i] - run.snapshot_times[i - 1])
+        tracker.step(
+            old[:, 3:6],
+            new[:, 3:6],
+            old[:, 0:3],
+            new[:, 0:3],
+            run.snapshot_times[i] - run.snapshot_times[i - 1],
+        )
     _, r_space = bent.shape(run.snapshot_times[-1])
     deflection = np.max(np.hypot(r_space[:, 0], r_space[:, 1]))
     return np.max(np.linalg.norm(tracker.r - r_space, axis=1)), deflection, tracker.R
@@ -87,8 +106,10 @@ def test_self_contact_finds_a_crossing_and_ignores_neighbours():
     s = np.linspace(0, 1, 101)
     straight = np.stack([0 * s, 0 * s, s], axis=1)
     assert shapes.self_contact(straight, 1e-3) is None
-    loop = np.stack([0.1 * np.sin(2 * np.pi * s), 0.1 * (1 - np.cos(2 * np.pi * s)) + 0 * s,
-                     0.3 * s * (s - 1)], axis=1)  # a circle whose ends meet up to 1e-4 m
+    loop = np.stack(
+        [0.1 * np.sin(2 * np.pi * s), 0.1 * (1 - np.cos(2 * np.pi * s)) + 0 * s, 0.3 * s * (s - 1)],
+        axis=1,
+    )  # a circle whose ends meet up to 1e-4 m
     loop[-1] += [0, 0, 5e-4]
     hit = shapes.self_contact(loop, 1e-3)
     assert hit is not None and hit[0] < 1e-3

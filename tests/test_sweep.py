@@ -35,12 +35,18 @@ def hashes(store):
 
 
 # ------------------------------------------------------------------ scenes
-@pytest.mark.parametrize("kw, name", [({"a": 0.0}, "a="), ({"a": float("inf")}, "a="),
-                                      ({"a": 1.0, "n_cells": 1}, "n_cells"),
-                                      ({"a": 1.0, "dt": -0.1}, "dt"),
-                                      ({"a": 1.0, "t_end": 0.0}, "t_end"),
-                                      ({"a": 1.0, "horizon": 0.0}, "horizon"),
-                                      ({"a": 1.0, "kappa0": 500.0}, "kappa0")])
+@pytest.mark.parametrize(
+    "kw, name",
+    [
+        ({"a": 0.0}, "a="),
+        ({"a": float("inf")}, "a="),
+        ({"a": 1.0, "n_cells": 1}, "n_cells"),
+        ({"a": 1.0, "dt": -0.1}, "dt"),
+        ({"a": 1.0, "t_end": 0.0}, "t_end"),
+        ({"a": 1.0, "horizon": 0.0}, "horizon"),
+        ({"a": 1.0, "kappa0": 500.0}, "kappa0"),
+    ],
+)
 def test_scene_rejects_bad_input(kw, name):
     with pytest.raises(ValueError, match=name):
         S.Scene(**kw)
@@ -50,16 +56,23 @@ def test_scene_horizon_rule():
     sc = S.Scene(a=1.6, kappa0=0.0)
     kc = critical_twist(sc.rod)
     assert sc.kappa0 + sc.a * sc.duration() == pytest.approx(
-        kc + 3 * (S.paper_law(1.6, sc.rod) - kc))
+        kc + 3 * (S.paper_law(1.6, sc.rod) - kc)
+    )
     assert S.Scene(a=1.6, t_end=7.0).duration() == 7.0
 
 
 def test_scene_params_name_everything():
     base = S.Scene(a=1.6)
-    variants = [S.Scene(a=1.6, kappa0=0.0), S.Scene(a=1.6, rod=Rod(rho=5000.0)),
-                S.Scene(a=1.6, seed=Perturbation(1e-17)), S.Scene(a=1.6, n_cells=200),
-                S.Scene(a=1.6, dt=0.0025), S.Scene(a=1.6, window=(0.2, 0.5)),
-                S.Scene(a=1.6, t_end=30.0), S.Scene(a=1.7)]
+    variants = [
+        S.Scene(a=1.6, kappa0=0.0),
+        S.Scene(a=1.6, rod=Rod(rho=5000.0)),
+        S.Scene(a=1.6, seed=Perturbation(1e-17)),
+        S.Scene(a=1.6, n_cells=200),
+        S.Scene(a=1.6, dt=0.0025),
+        S.Scene(a=1.6, window=(0.2, 0.5)),
+        S.Scene(a=1.6, t_end=30.0),
+        S.Scene(a=1.7),
+    ]
     keys = {R.key(S.KIND, sc.params()) for sc in [base, *variants]}
     assert len(keys) == len(variants) + 1
     assert S.Scene(a=1.6).params() == base.params()
@@ -87,9 +100,10 @@ def test_mini_sweep_regression(serial, num_regression):
     assert not table["cached"].any()
     assert table["kappa3"].notna().all()
     assert (table["kappa3"] > critical_twist(Rod())).all()
-    num_regression.check({c: table[c].to_numpy(float) for c in
-                          ("a", "t_c", "kappa3", "uncertainty_kappa3")},
-                         default_tolerance={"rtol": 1e-6})
+    num_regression.check(
+        {c: table[c].to_numpy(float) for c in ("a", "t_c", "kappa3", "uncertainty_kappa3")},
+        default_tolerance={"rtol": 1e-6},
+    )
 
 
 def test_second_run_reads_the_cache(serial, monkeypatch):
@@ -117,7 +131,8 @@ def test_stale_scene_is_recomputed_or_refused(serial, tmp_path, monkeypatch):
     copy = R.Store(tmp_path)
     for rec in store.records(S.KIND):
         (tmp_path / f"{S.KIND}-{rec['key']}.json").write_text(
-            (store.root / f"{S.KIND}-{rec['key']}.json").read_text())
+            (store.root / f"{S.KIND}-{rec['key']}.json").read_text()
+        )
     monkeypatch.setattr(R, "code_fingerprint", lambda *a: "changed-code")
     with pytest.raises(R.StaleResultError, match="code fingerprint"):
         S.run_sweep(coarse(), copy, on_stale="error", progress=False)
@@ -137,9 +152,12 @@ def test_executors_give_the_same_records(serial, tmp_path, how):
         S.run_sweep(coarse(), other, jobs=2, progress=False)
     else:
         distributed = pytest.importorskip("dask.distributed")
-        with distributed.LocalCluster(n_workers=2, threads_per_worker=1,
-                                      dashboard_address=None) as cluster, \
-                distributed.Client(cluster) as client:
+        with (
+            distributed.LocalCluster(
+                n_workers=2, threads_per_worker=1, dashboard_address=None
+            ) as cluster,
+            distributed.Client(cluster) as client,
+        ):
             S.run_sweep(coarse(), other, executor=client.get_executor(), progress=False)
     assert hashes(other) == hashes(store)
 
@@ -148,9 +166,23 @@ def test_killed_sweep_resumes_to_the_same_table(serial, tmp_path):
     """SIGKILL a command-line sweep after its first scene is written, then resume."""
     store, _ = serial
     rates = (10.0, 4.0, 7.0)
-    cmd = [sys.executable, "-m", "dyntorsion", "sweep", "--rates", ",".join(map(str, rates)),
-           "--kappa0", "10", "--n-cells", "40", "--dt", "0.01", "--store", str(tmp_path),
-           "--quiet"]
+    cmd = [
+        sys.executable,
+        "-m",
+        "dyntorsion",
+        "sweep",
+        "--rates",
+        ",".join(map(str, rates)),
+        "--kappa0",
+        "10",
+        "--n-cells",
+        "40",
+        "--dt",
+        "0.01",
+        "--store",
+        str(tmp_path),
+        "--quiet",
+    ]
     proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     deadline = time.monotonic() + 120
     while not list(tmp_path.glob("*.json")) and time.monotonic() < deadline:
@@ -173,16 +205,32 @@ def test_killed_sweep_resumes_to_the_same_table(serial, tmp_path):
 # ------------------------------------------------------------------ command line
 def test_cli_buckle_prints_the_onset(serial, capsys):
     _, table = serial
-    assert main(["buckle", "--a", "10", "--kappa0", "10", "--n-cells", "40",
-                 "--dt", "0.01"]) == 0
+    assert main(["buckle", "--a", "10", "--kappa0", "10", "--n-cells", "40", "--dt", "0.01"]) == 0
     out = capsys.readouterr().out
     assert f"{table['kappa3'][0]:.4f}" in out and "t_c" in out
 
 
 def test_cli_sweep_reads_the_cache(serial, capsys):
     store, table = serial
-    assert main(["sweep", "--rates", "10,4", "--kappa0", "10", "--n-cells", "40", "--dt",
-                 "0.01", "--store", str(store.root), "--quiet"]) == 0
+    assert (
+        main(
+            [
+                "sweep",
+                "--rates",
+                "10,4",
+                "--kappa0",
+                "10",
+                "--n-cells",
+                "40",
+                "--dt",
+                "0.01",
+                "--store",
+                str(store.root),
+                "--quiet",
+            ]
+        )
+        == 0
+    )
     out = capsys.readouterr().out
     assert out.count("True") == 2 and f"{table['kappa3'][1]:.5g}" in out
 
@@ -193,6 +241,10 @@ def test_cli_bad_input_names_the_parameter(capsys):
 
 
 def test_python_m_entry_point():
-    out = subprocess.run([sys.executable, "-m", "dyntorsion", "--version"],
-                         capture_output=True, text=True, check=True).stdout
+    out = subprocess.run(
+        [sys.executable, "-m", "dyntorsion", "--version"],
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout
     assert out.startswith("dyntorsion ")

@@ -82,13 +82,16 @@ def test_tolerance_picks_enough_terms():
 # ------------------------------------------------------------------ mpmath references
 def test_precise_series_agree_with_numpy():
     s = np.array([0.0, 0.3, 0.77, 1.0])
-    for fn, kw in [(w.linear_loading_exact, {"a": 0.1, "kappa0": 1.0}),
-                   (w.instant_release_exact, {"kappa0": 10.0}),
-                   (w.smooth_release_exact, {"kappa0": 10.0})]:
+    for fn, kw in [
+        (w.linear_loading_exact, {"a": 0.1, "kappa0": 1.0}),
+        (w.instant_release_exact, {"kappa0": 10.0}),
+        (w.smooth_release_exact, {"kappa0": 10.0}),
+    ]:
         ref = fn(s, 0.01, c=C, L=L, terms=20, precise=True, **kw)
         assert isinstance(ref[1], mpmath.mpf)
-        np.testing.assert_allclose(ref.astype(float), fn(s, 0.01, c=C, L=L, terms=20, **kw),
-                                   rtol=0, atol=2e-13)
+        np.testing.assert_allclose(
+            ref.astype(float), fn(s, 0.01, c=C, L=L, terms=20, **kw), rtol=0, atol=2e-13
+        )
 
 
 def test_precise_smooth_release_has_30_digits():
@@ -101,8 +104,9 @@ def test_precise_smooth_release_has_30_digits():
 
 
 # ------------------------------------------------------------------ transitions
-@pytest.mark.parametrize("f", [w.ExpQuartic(), w.FlatBlend(), w.FlatBlend(0.4)],
-                         ids=lambda f: f.name)
+@pytest.mark.parametrize(
+    "f", [w.ExpQuartic(), w.FlatBlend(), w.FlatBlend(0.4)], ids=lambda f: f.name
+)
 def test_transition_derivatives_are_consistent(f):
     x = np.linspace(0.02, 0.98 * getattr(f, "width", 1.5), 37)
     h = 1e-6
@@ -115,8 +119,7 @@ def test_transition_derivatives_are_consistent(f):
 
 def test_paper_facts_about_f():
     """f(0) = 1, f'(0) = f''(0) = f'''(0) = 0, f''''(0) = -24 (section 5); flat blend: all 0."""
-    np.testing.assert_allclose(w.ExpQuartic().derivatives_at_zero(), [1, 0, 0, 0, -24],
-                               atol=1e-30)
+    np.testing.assert_allclose(w.ExpQuartic().derivatives_at_zero(), [1, 0, 0, 0, -24], atol=1e-30)
     np.testing.assert_allclose(w.FlatBlend().derivatives_at_zero(), [1, 0, 0, 0, 0], atol=1e-30)
     assert w.smoothing(1.0) == pytest.approx(np.exp(-1.0))  # f(50 t) = 1/e at t = 0.02 s
     assert w.smoothing(-3.0) == 1.0
@@ -124,12 +127,19 @@ def test_paper_facts_about_f():
 
 
 def test_custom_transition_matches_builtin():
-    custom = w.CustomTransition([lambda x: np.exp(-x**4), lambda x: -4 * x**3 * np.exp(-x**4),
-                                 lambda x: (16 * x**6 - 12 * x**2) * np.exp(-x**4)])
+    custom = w.CustomTransition(
+        [
+            lambda x: np.exp(-(x**4)),
+            lambda x: -4 * x**3 * np.exp(-(x**4)),
+            lambda x: (16 * x**6 - 12 * x**2) * np.exp(-(x**4)),
+        ]
+    )
     s = np.linspace(0, L, 7)
     np.testing.assert_allclose(
         w.smooth_release_exact(s, 0.01, kappa0=1.0, c=C, L=L, f=custom, terms=50),
-        w.smooth_release_exact(s, 0.01, kappa0=1.0, c=C, L=L, terms=50), atol=1e-15)
+        w.smooth_release_exact(s, 0.01, kappa0=1.0, c=C, L=L, terms=50),
+        atol=1e-15,
+    )
     with pytest.raises(ValueError, match="f'''"):
         w.smooth_release_exact(s, 0.01, kappa0=1.0, c=C, L=L, f=custom)
     with pytest.raises(ValueError, match="mpmath"):
@@ -140,8 +150,10 @@ def test_custom_transition_matches_builtin():
 def test_smooth_release_converges_at_second_order():
     """Fig 6 scene, ds and dt halved together (Courant number fixed): order 2 in max and L2."""
     n = np.array([100, 200, 400, 800])
-    errs = [w.solve(w.SmoothRelease(10.0), n_cells=int(k), dt=0.25 / k, times=[0.01]).errors()
-            for k in n]
+    errs = [
+        w.solve(w.SmoothRelease(10.0), n_cells=int(k), dt=0.25 / k, times=[0.01]).errors()
+        for k in n
+    ]
     for norm in ("max", "L2"):
         e = np.array([x[norm][0] for x in errs])
         assert np.all(observed_orders(1.0 / n, e) > 1.9)
@@ -150,10 +162,13 @@ def test_smooth_release_converges_at_second_order():
 def test_incompatible_scenes_converge_only_in_weak_norms():
     """Fig 3 (kink) converges in max and L1; Fig 4 (jump) only in L1, the max error stays O(kappa0)."""
     n = np.array([100, 200, 400, 800])
-    lin = [w.solve(w.LinearLoading(0.1), n_cells=int(k), dt=0.2 / k, times=[0.01]).errors()
-           for k in n]
-    rel = [w.solve(w.InstantRelease(10.0), n_cells=int(k), dt=0.2 / k, times=[0.01]).errors()
-           for k in n]
+    lin = [
+        w.solve(w.LinearLoading(0.1), n_cells=int(k), dt=0.2 / k, times=[0.01]).errors() for k in n
+    ]
+    rel = [
+        w.solve(w.InstantRelease(10.0), n_cells=int(k), dt=0.2 / k, times=[0.01]).errors()
+        for k in n
+    ]
     assert np.all(observed_orders(1.0 / n, np.array([e["max"][0] for e in lin])) > 0.5)
     assert np.all(observed_orders(1.0 / n, np.array([e["L1"][0] for e in lin])) > 1.0)
     assert np.all(observed_orders(1.0 / n, np.array([e["L1"][0] for e in rel])) > 0.3)
@@ -165,11 +180,21 @@ def test_twelve_field_model_gives_the_same_wave():
     n, dt, a = 100, 1e-3, 0.1
     reduced = w.solve(w.LinearLoading(a), n_cells=n, dt=dt, times=[0.005, 0.01])
     system = Cosserat(ROD).system()
-    left = ga.Boundary.fields(system, ["u1", "u2", "u3", "w1", "w2", "k3"],
-                              lambda t: np.outer(a * t, [0, 0, 0, 0, 0, 1]))
+    left = ga.Boundary.fields(
+        system, ["u1", "u2", "u3", "w1", "w2", "k3"], lambda t: np.outer(a * t, [0, 0, 0, 0, 0, 1])
+    )
     right = ga.Boundary.fields(system, ["w1", "w2", "w3", "u1", "u2", "n3"])
-    run = ga.integrate(system, n_cells=n, length=L, dt=dt, t_end=0.01, y0=np.zeros((n + 1, 12)),
-                       left=left, right=right, snapshots=[0.005, 0.01])
+    run = ga.integrate(
+        system,
+        n_cells=n,
+        length=L,
+        dt=dt,
+        t_end=0.01,
+        y0=np.zeros((n + 1, 12)),
+        left=left,
+        right=right,
+        snapshots=[0.005, 0.01],
+    )
     for i, t in enumerate((0.005, 0.01)):
         scale_k, scale_w = np.max(np.abs(reduced.kappa[i])), np.max(np.abs(reduced.omega[i]))
         assert np.max(np.abs(run.field("k3", t) - reduced.kappa[i])) < 1e-9 * scale_k
@@ -182,8 +207,10 @@ def test_energy_of_release_is_conserved_until_the_front_arrives():
     """Instant release: no work crosses s = 0 (omega = 0) and kappa(L) = 0 after t = 0, so
     the box energy stays at its value after the first step."""
     sol = w.solve(w.InstantRelease(10.0), n_cells=200, dt=1e-3, times=[0.001, 0.01, 0.05])
-    energy = [w.Torsion(ROD).energy(np.stack([k, o], axis=1), L / 200)
-              for k, o in zip(sol.kappa, sol.omega, strict=True)]
+    energy = [
+        w.Torsion(ROD).energy(np.stack([k, o], axis=1), L / 200)
+        for k, o in zip(sol.kappa, sol.omega, strict=True)
+    ]
     np.testing.assert_allclose(energy[1:], energy[0], rtol=1e-9)
 
 
@@ -201,24 +228,38 @@ def test_series_values_regression(num_regression):
 def test_fig6_numerical_kappa_regression(num_regression):
     """The paper's Fig 6 grid: ds = 0.01 m, dt = 0.005 s, t = 0.01 s."""
     sol = w.solve(w.SmoothRelease(10.0), n_cells=100, dt=0.005, times=[0.01])
-    num_regression.check({"s": sol.s[::10], "kappa": sol.kappa[0, ::10]},
-                         default_tolerance={"atol": 1e-10, "rtol": 1e-9})
+    num_regression.check(
+        {"s": sol.s[::10], "kappa": sol.kappa[0, ::10]},
+        default_tolerance={"atol": 1e-10, "rtol": 1e-9},
+    )
 
 
 # ------------------------------------------------------------------ bad input
 @pytest.mark.parametrize(
     "kwargs, match",
-    [({"c": 0.0}, "c="), ({"c": -1.0}, "c="), ({"L": 0.0}, "L="), ({"terms": 0}, "terms="),
-     ({"terms": 2.5}, "terms="), ({"t": -0.1}, "t must"), ({"s": 1.5}, r"s must lie in \[0, L\]"),
-     ({"s": -0.1}, "s must"), ({"tol": 0.0}, "tol=")])
+    [
+        ({"c": 0.0}, "c="),
+        ({"c": -1.0}, "c="),
+        ({"L": 0.0}, "L="),
+        ({"terms": 0}, "terms="),
+        ({"terms": 2.5}, "terms="),
+        ({"t": -0.1}, "t must"),
+        ({"s": 1.5}, r"s must lie in \[0, L\]"),
+        ({"s": -0.1}, "s must"),
+        ({"tol": 0.0}, "tol="),
+    ],
+)
 def test_bad_input(kwargs, match):
     args = {"s": 0.5, "t": 0.01, "c": C, "L": L, "terms": 10}
     args.update(kwargs)
     if "tol" in kwargs:
         args.pop("terms")
     s, t = args.pop("s"), args.pop("t")
-    for fn, extra in [(w.linear_loading_exact, {"a": 0.1}), (w.instant_release_exact, {"kappa0": 1}),
-                      (w.smooth_release_exact, {"kappa0": 1})]:
+    for fn, extra in [
+        (w.linear_loading_exact, {"a": 0.1}),
+        (w.instant_release_exact, {"kappa0": 1}),
+        (w.smooth_release_exact, {"kappa0": 1}),
+    ]:
         with pytest.raises(ValueError, match=match):
             fn(s, t, **args, **extra)
 

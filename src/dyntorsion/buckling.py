@@ -19,16 +19,28 @@ from .genalpha import Boundary, ConvergenceError, Newton, Run, Scheme, integrate
 from .model import Cosserat
 from .rod import Rod
 
-__all__ = ["m_cri", "critical_moment", "critical_twist", "critical_twist_numerical",
-           "Perturbation", "BucklingRun", "simulate", "Onset", "detect_onset",
-           "PowerLawFit", "fit_power_law"]
+__all__ = [
+    "m_cri",
+    "critical_moment",
+    "critical_twist",
+    "critical_twist_numerical",
+    "Perturbation",
+    "BucklingRun",
+    "simulate",
+    "Onset",
+    "detect_onset",
+    "PowerLawFit",
+    "fit_power_law",
+]
 
 
 def _m_cri(digits: int = 40) -> mpmath.mpf:
     """Smallest nonzero root of tan(pi m) = pi m (between 1 and 3/2)."""
     with mpmath.workdps(digits):
-        return mpmath.findroot(lambda m: mpmath.sin(mpmath.pi * m)
-                               - mpmath.pi * m * mpmath.cos(mpmath.pi * m), mpmath.mpf("1.43"))
+        return mpmath.findroot(
+            lambda m: mpmath.sin(mpmath.pi * m) - mpmath.pi * m * mpmath.cos(mpmath.pi * m),
+            mpmath.mpf("1.43"),
+        )
 
 
 #: the nondimensional critical moment of eq (31), to 40 digits (mpmath)
@@ -115,8 +127,9 @@ class Perturbation:
             f[:] = self.magnitude * np.asarray(self.direction)
         else:
             if not 0 <= self.location <= length:
-                raise ValueError(f"perturbation location={self.location!r} must lie in "
-                                 f"[0, L] = [0, {length}]")
+                raise ValueError(
+                    f"perturbation location={self.location!r} must lie in [0, L] = [0, {length}]"
+                )
             j = int(np.argmin(np.abs(s - self.location)))
             ds = s[1] - s[0]
             weight = ds if 0 < j < s.size - 1 else 0.5 * ds
@@ -153,12 +166,23 @@ class BucklingRun:
         return ts, shapes.shape(self.run.snapshots[i], ds, theta)
 
 
-def simulate(rod: Rod | None = None, *, a: float, kappa0: float = 0.0, n_cells: int, dt: float,
-             t_end: float, perturbation: float | Perturbation = 1e-8,
-             scheme: Scheme = Scheme(), newton: Newton = Newton(),
-             snapshots: Sequence[float] = (), stop_at_contact: bool = True,
-             check_every: int | None = None, progress: bool | None = None,
-             on_failure: str = "raise") -> BucklingRun:
+def simulate(
+    rod: Rod | None = None,
+    *,
+    a: float,
+    kappa0: float = 0.0,
+    n_cells: int,
+    dt: float,
+    t_end: float,
+    perturbation: float | Perturbation = 1e-8,
+    scheme: Scheme = Scheme(),
+    newton: Newton = Newton(),
+    snapshots: Sequence[float] = (),
+    stop_at_contact: bool = True,
+    check_every: int | None = None,
+    progress: bool | None = None,
+    on_failure: str = "raise",
+) -> BucklingRun:
     """Run the buckling scene of section 6.
 
     Table 1 rod (or ``rod``), boundary conditions of eq (30) with
@@ -195,8 +219,11 @@ def simulate(rod: Rod | None = None, *, a: float, kappa0: float = 0.0, n_cells: 
     ds = rod.L / n_cells
     y0 = np.zeros((n_cells + 1, 12))
     y0[:, system.index("k3")] = kappa0
-    left = Boundary.fields(system, ["u1", "u2", "u3", "w1", "w2", "k3"],
-                           lambda t: np.outer(kappa0 + a * t, [0, 0, 0, 0, 0, 1]))
+    left = Boundary.fields(
+        system,
+        ["u1", "u2", "u3", "w1", "w2", "k3"],
+        lambda t: np.outer(kappa0 + a * t, [0, 0, 0, 0, 0, 1]),
+    )
     right = Boundary.fields(system, ["w1", "w2", "w3", "u1", "u2", "n3"])
     q = model.external_force(perturbation.force(s, rod.L))
 
@@ -210,14 +237,30 @@ def simulate(rod: Rod | None = None, *, a: float, kappa0: float = 0.0, n_cells: 
     if check_every is None:
         check_every = max(1, int(round(0.1 / dt)))
     try:
-        run = integrate(system, n_cells=n_cells, length=rod.L, dt=dt, t_end=t_end, y0=y0,
-                        left=left, right=right, scheme=scheme, source=(q, None),
-                        record={"u3_end": ("u3", -1), "k3_left": ("k3", 0),
-                                "k3_right": ("k3", -1), "w3_left": ("w3", 0),
-                                "w3_right": ("w3", -1)},
-                        snapshots=snapshots, newton=newton,
-                        stop=contact if stop_at_contact else None, check_every=check_every,
-                        progress=progress)
+        run = integrate(
+            system,
+            n_cells=n_cells,
+            length=rod.L,
+            dt=dt,
+            t_end=t_end,
+            y0=y0,
+            left=left,
+            right=right,
+            scheme=scheme,
+            source=(q, None),
+            record={
+                "u3_end": ("u3", -1),
+                "k3_left": ("k3", 0),
+                "k3_right": ("k3", -1),
+                "w3_left": ("w3", 0),
+                "w3_right": ("w3", -1),
+            },
+            snapshots=snapshots,
+            newton=newton,
+            stop=contact if stop_at_contact else None,
+            check_every=check_every,
+            progress=progress,
+        )
     except ConvergenceError as err:
         if on_failure == "raise" or err.run is None:
             raise
@@ -225,13 +268,29 @@ def simulate(rod: Rod | None = None, *, a: float, kappa0: float = 0.0, n_cells: 
     t = run.t
     w0 = run["w3_left"]
     theta = np.concatenate([[0.0], np.cumsum(0.5 * np.diff(t) * (w0[1:] + w0[:-1]))])
-    params = {"rod": rod.as_dict(), "a": a, "kappa0": kappa0, "n_cells": n_cells, "dt": dt,
-              "t_end": t_end, "perturbation": asdict(perturbation),
-              "scheme": run.meta["scheme"], "check_every": check_every}
-    return BucklingRun(t=t, u3_end=run["u3_end"], kappa3_left=run["k3_left"],
-                       kappa3_right=run["k3_right"], omega3_left=w0,
-                       omega3_right=run["w3_right"], theta_left=theta, run=run, rod=rod,
-                       params=params)
+    params = {
+        "rod": rod.as_dict(),
+        "a": a,
+        "kappa0": kappa0,
+        "n_cells": n_cells,
+        "dt": dt,
+        "t_end": t_end,
+        "perturbation": asdict(perturbation),
+        "scheme": run.meta["scheme"],
+        "check_every": check_every,
+    }
+    return BucklingRun(
+        t=t,
+        u3_end=run["u3_end"],
+        kappa3_left=run["k3_left"],
+        kappa3_right=run["k3_right"],
+        omega3_left=w0,
+        omega3_right=run["w3_right"],
+        theta_left=theta,
+        run=run,
+        rod=rod,
+        params=params,
+    )
 
 
 # ================================================================= onset of buckling
@@ -249,9 +308,12 @@ class Onset:
     variations: dict[tuple[float, float], float]
 
 
-def detect_onset(run: BucklingRun, window: tuple[float, float] = (0.1, 0.5),
-                 variations: Sequence[tuple[float, float]] = ((0.05, 0.3), (0.2, 0.7)),
-                 u_ref: float | None = None) -> Onset:
+def detect_onset(
+    run: BucklingRun,
+    window: tuple[float, float] = (0.1, 0.5),
+    variations: Sequence[tuple[float, float]] = ((0.05, 0.3), (0.2, 0.7)),
+    u_ref: float | None = None,
+) -> Onset:
     """Fit a straight line to the initial dramatic variation of u3(L, t), extrapolate
     to u3 = 0: t_c and kappa3 = kappa0 + a t_c.
 
@@ -273,8 +335,10 @@ def detect_onset(run: BucklingRun, window: tuple[float, float] = (0.1, 0.5),
         u_ref = float(Cosserat(run.rod).scales()[0][0])  # L / T0
     above = np.nonzero(U >= u_ref)[0]
     if above.size == 0:
-        raise ValueError(f"|u3(L, t)| never reaches u_ref = {u_ref:.3g} m/s: the run ends "
-                         "before buckling; increase t_end")
+        raise ValueError(
+            f"|u3(L, t)| never reaches u_ref = {u_ref:.3g} m/s: the run ends "
+            "before buckling; increase t_end"
+        )
     i_start = int(above[0])
     running = np.maximum.accumulate(U[i_start:])
     drop = np.nonzero(U[i_start:] < 0.7 * running)[0]
@@ -289,8 +353,9 @@ def detect_onset(run: BucklingRun, window: tuple[float, float] = (0.1, 0.5),
         i0 = int(np.argmax(head >= lo * U_peak))
         i1 = int(np.argmax(head >= hi * U_peak))
         if i1 - i0 < 2:
-            raise ValueError(f"window=({lo}, {hi}) holds fewer than 3 samples: refine dt "
-                             "or widen the window")
+            raise ValueError(
+                f"window=({lo}, {hi}) holds fewer than 3 samples: refine dt or widen the window"
+            )
         slope, intercept = np.polyfit(t[i0 : i1 + 1], sign * U[i0 : i1 + 1], 1)
         return -intercept / slope, slope * sign, intercept * sign
 
@@ -298,10 +363,16 @@ def detect_onset(run: BucklingRun, window: tuple[float, float] = (0.1, 0.5),
     var = {tuple(v): fit(*v)[0] for v in variations}
     unc = max((abs(v - t_c) for v in var.values()), default=0.0)
     a = run.params["a"]
-    return Onset(t_c=float(t_c), kappa3=float(run.params["kappa0"] + a * t_c),
-                 uncertainty_t=float(unc), uncertainty_kappa3=float(abs(a) * unc),
-                 slope=float(slope), intercept=float(intercept), window=tuple(window),
-                 variations={k: float(v) for k, v in var.items()})
+    return Onset(
+        t_c=float(t_c),
+        kappa3=float(run.params["kappa0"] + a * t_c),
+        uncertainty_t=float(unc),
+        uncertainty_kappa3=float(abs(a) * unc),
+        slope=float(slope),
+        intercept=float(intercept),
+        window=tuple(window),
+        variations={k: float(v) for k, v in var.items()},
+    )
 
 
 # ================================================================= the delay law
@@ -347,10 +418,17 @@ def _power_law(x: np.ndarray, kc: float, b_over_L: float, sigma: float) -> np.nd
     return kc + b_over_L * x**sigma
 
 
-def fit_power_law(a: Sequence[float], kappa3: Sequence[float], rod: Rod | None = None, *,
-                  kappa_cri: float | str | None = "static",
-                  uncertainty: Sequence[float] | None = None, n_boot: int = 2000,
-                  confidence: float = 0.95, seed: int = 0) -> PowerLawFit:
+def fit_power_law(
+    a: Sequence[float],
+    kappa3: Sequence[float],
+    rod: Rod | None = None,
+    *,
+    kappa_cri: float | str | None = "static",
+    uncertainty: Sequence[float] | None = None,
+    n_boot: int = 2000,
+    confidence: float = 0.95,
+    seed: int = 0,
+) -> PowerLawFit:
     """Fit eq (33) to critical twists ``kappa3`` measured at loading rates ``a``.
 
     ``kappa_cri="static"`` fixes kappa_cri at eq (32) for ``rod`` (the paper's
@@ -377,8 +455,9 @@ def fit_power_law(a: Sequence[float], kappa3: Sequence[float], rod: Rod | None =
         kappa_cri = critical_twist(rod)
     n_par = 3 if free else 2
     if a.size < n_par + 1:
-        raise ValueError(f"need at least {n_par + 1} points to fit {n_par} parameters "
-                         f"(got {a.size})")
+        raise ValueError(
+            f"need at least {n_par + 1} points to fit {n_par} parameters (got {a.size})"
+        )
     if not 0 < confidence < 1:
         raise ValueError(f"confidence={confidence!r} must lie in (0, 1)")
     if not isinstance(n_boot, int) or n_boot < 0:
@@ -397,20 +476,26 @@ def fit_power_law(a: Sequence[float], kappa3: Sequence[float], rod: Rod | None =
         if free:
             f, p0 = _power_law, [kc0, math.exp(logb0), sig0]
         else:
+
             def f(xx, bl, sg):
                 return _power_law(xx, kappa_cri, bl, sg)
+
             p0 = [math.exp(logb0), sig0]
         with np.errstate(all="ignore"), warnings.catch_warnings():
             if quiet:
                 warnings.simplefilter("ignore", scipy.optimize.OptimizeWarning)
-            p, cov = scipy.optimize.curve_fit(f, xs, ks, p0=p0, sigma=ws,
-                                              absolute_sigma=ws is not None, maxfev=20000)
+            p, cov = scipy.optimize.curve_fit(
+                f, xs, ks, p0=p0, sigma=ws, absolute_sigma=ws is not None, maxfev=20000
+            )
         return (p if free else np.r_[kappa_cri, p]), cov, f
 
     p, cov, f = solve(x, k, w)
     kc, bl, sg = (float(v) for v in p)
-    err = np.sqrt(np.clip(np.diag(cov), 0, None)) if np.all(np.isfinite(cov)) else \
-        np.full(n_par, np.nan)
+    err = (
+        np.sqrt(np.clip(np.diag(cov), 0, None))
+        if np.all(np.isfinite(cov))
+        else np.full(n_par, np.nan)
+    )
     if not free:
         err = np.r_[0.0, err]
     resid = k - _power_law(x, kc, bl, sg)
@@ -437,9 +522,20 @@ def fit_power_law(a: Sequence[float], kappa3: Sequence[float], rod: Rod | None =
         cols = (0, 1, 2) if free else (1, 2)
         for name, c in zip(names, cols, strict=True):
             boot[name] = (float(np.percentile(S[:, c], lo)), float(np.percentile(S[:, c], hi)))
-    return PowerLawFit(b=bl * rod.L, sigma=sg, kappa_cri=kc, b_err=float(err[1]) * rod.L,
-                       sigma_err=float(err[2]), kappa_cri_err=float(err[0]),
-                       kappa_cri_free=free, covariance=cov, bootstrap=boot,
-                       confidence=confidence, n_boot=n_boot, n_boot_failed=failed,
-                       residual_rms=float(np.sqrt(np.mean(resid**2))), n_points=int(a.size),
-                       rod=rod)
+    return PowerLawFit(
+        b=bl * rod.L,
+        sigma=sg,
+        kappa_cri=kc,
+        b_err=float(err[1]) * rod.L,
+        sigma_err=float(err[2]),
+        kappa_cri_err=float(err[0]),
+        kappa_cri_free=free,
+        covariance=cov,
+        bootstrap=boot,
+        confidence=confidence,
+        n_boot=n_boot,
+        n_boot_failed=failed,
+        residual_rms=float(np.sqrt(np.mean(resid**2))),
+        n_points=int(a.size),
+        rod=rod,
+    )

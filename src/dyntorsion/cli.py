@@ -12,9 +12,9 @@ from collections.abc import Sequence
 import numpy as np
 
 from . import __version__, fidelity
-from .fidelity import LEVELS
 from .buckling import Perturbation, critical_twist, fit_power_law
-from .results import ON_STALE, Store
+from .fidelity import LEVELS
+from .results import ON_STALE
 from .rod import Rod
 from .sweep import DATA, PRESETS, Scene, run_scene, run_sweep
 
@@ -27,27 +27,43 @@ def _scene_options(p: argparse.ArgumentParser, kappa0: float) -> None:
     g.add_argument("--nu", type=float, default=0.25, help="Poisson's ratio")
     g.add_argument("--D", type=float, default=1e-3, help="diameter [m]")
     g.add_argument("--L", type=float, default=1.0, help="length [m]")
-    g.add_argument("--seed", type=float, default=1e-8,
-                   help="perturbation magnitude (N/m uniform, N for --seed-form point)")
+    g.add_argument(
+        "--seed",
+        type=float,
+        default=1e-8,
+        help="perturbation magnitude (N/m uniform, N for --seed-form point)",
+    )
     g.add_argument("--seed-form", choices=("uniform", "point"), default="uniform")
     g.add_argument("--seed-location", type=float, default=0.5, help="point seed position [m]")
-    g.add_argument("--fidelity", choices=LEVELS, default=None,
-                   help="grid preset (dyntorsion.fidelity); overrides --n-cells/--dt/--lam-*")
+    g.add_argument(
+        "--fidelity",
+        choices=LEVELS,
+        default=None,
+        help="grid preset (dyntorsion.fidelity); overrides --n-cells/--dt/--lam-*",
+    )
     g.add_argument("--n-cells", type=int, default=100, help="cells along the rod")
     g.add_argument("--dt", type=float, default=0.005, help="time step [s]")
     g.add_argument("--lam-s", type=float, default=-1.0, help="lambda_inf in space, [-1, 0]")
     g.add_argument("--lam-t", type=float, default=-1.0, help="lambda_inf in time, [-1, 0]")
-    g.add_argument("--t-end", type=float, default=None,
-                   help="end time [s] (default: 3x the paper's delay, eqs 33-34)")
+    g.add_argument(
+        "--t-end",
+        type=float,
+        default=None,
+        help="end time [s] (default: 3x the paper's delay, eqs 33-34)",
+    )
 
 
 def _scene(args: argparse.Namespace, a: float) -> Scene:
     rod = Rod(E=args.E, nu=args.nu, D=args.D, L=args.L, rho=args.rho)
     seed = Perturbation(magnitude=args.seed, form=args.seed_form, location=args.seed_location)
-    grid = fidelity.get("buckling", args.fidelity or fidelity.Fidelity(
-        args.n_cells, args.dt, lam_s=args.lam_s, lam_t=args.lam_t))
-    return Scene(a=a, kappa0=args.kappa0, rod=rod, seed=seed, t_end=args.t_end,
-                 **grid.simulate_kwargs())
+    grid = fidelity.get(
+        "buckling",
+        args.fidelity
+        or fidelity.Fidelity(args.n_cells, args.dt, lam_s=args.lam_s, lam_t=args.lam_t),
+    )
+    return Scene(
+        a=a, kappa0=args.kappa0, rod=rod, seed=seed, t_end=args.t_end, **grid.simulate_kwargs()
+    )
 
 
 def _rates(text: str) -> list[float]:
@@ -72,8 +88,10 @@ def _buckle(args: argparse.Namespace) -> int:
         print("no onset detected before the run ended")
         return 1
     print(f"t_c        {row['t_c']:.4f} +- {row['uncertainty_t']:.4f} s")
-    print(f"kappa3     {row['kappa3']:.4f} +- {row['uncertainty_kappa3']:.4f} 1/m "
-          f"(static kappa_cri = {kc:.4f})")
+    print(
+        f"kappa3     {row['kappa3']:.4f} +- {row['uncertainty_kappa3']:.4f} 1/m "
+        f"(static kappa_cri = {kc:.4f})"
+    )
     return 0
 
 
@@ -98,14 +116,17 @@ def _print_fit(table) -> None:
         for mode in ("static", None):
             f = fit_power_law(grp["a"], grp["kappa3"], rod, kappa_cri=mode, n_boot=500)
             tag = "kappa_cri fixed" if mode else "kappa_cri free "
-            print(f"fit rho={rho:g} kappa0={k0:g} seed={seed:g} N={n} dt={dt:g} {tag}: "
-                  f"b = {f.b:.2f} +- {f.b_err:.2f}, sigma = {f.sigma:.4f} +- {f.sigma_err:.4f}, "
-                  f"kappa_cri = {f.kappa_cri:.4f} +- {f.kappa_cri_err:.4f} "
-                  "(paper: b = 160.60, sigma = 0.5680)")
+            print(
+                f"fit rho={rho:g} kappa0={k0:g} seed={seed:g} N={n} dt={dt:g} {tag}: "
+                f"b = {f.b:.2f} +- {f.b_err:.2f}, sigma = {f.sigma:.4f} +- {f.sigma_err:.4f}, "
+                f"kappa_cri = {f.kappa_cri:.4f} +- {f.kappa_cri_err:.4f} "
+                "(paper: b = 160.60, sigma = 0.5680)"
+            )
 
 
 def _log(message: str) -> None:
     from tqdm.auto import tqdm
+
     tqdm.write(message, file=sys.stderr)
 
 
@@ -116,8 +137,9 @@ def _sweep(args: argparse.Namespace) -> int:
         try:
             from dask.distributed import Client, LocalCluster
         except ImportError as err:
-            raise SystemExit("--scheduler/--dask-local need dask.distributed: "
-                             "pip install 'dyntorsion[parallel]'") from err
+            raise SystemExit(
+                "--scheduler/--dask-local need dask.distributed: pip install 'dyntorsion[parallel]'"
+            ) from err
         if args.scheduler:
             client = Client(args.scheduler)
         else:
@@ -125,16 +147,32 @@ def _sweep(args: argparse.Namespace) -> int:
             client = Client(cluster)
         executor = client.get_executor()
     try:
-        table = run_sweep(scenes, args.store, executor=executor, jobs=args.jobs,
-                          on_stale=args.on_stale, progress=not args.quiet,
-                          log=None if args.quiet else _log)
+        table = run_sweep(
+            scenes,
+            args.store,
+            executor=executor,
+            jobs=args.jobs,
+            on_stale=args.on_stale,
+            progress=not args.quiet,
+            log=None if args.quiet else _log,
+        )
     finally:
         if client is not None:
             client.close()
         if cluster is not None:
             cluster.close()
-    cols = ["a", "kappa0", "rho", "seed", "n_cells", "dt", "t_c", "kappa3",
-            "uncertainty_kappa3", "cached"]
+    cols = [
+        "a",
+        "kappa0",
+        "rho",
+        "seed",
+        "n_cells",
+        "dt",
+        "t_c",
+        "kappa3",
+        "uncertainty_kappa3",
+        "cached",
+    ]
     with np.printoptions(precision=4):
         print(table[cols].to_string(index=False, float_format=lambda v: f"{v:.5g}"))
     _print_fit(table)
@@ -142,8 +180,9 @@ def _sweep(args: argparse.Namespace) -> int:
 
 
 def _fit(args: argparse.Namespace) -> int:
-    table = run_sweep(PRESETS[args.preset](), args.store, on_stale="error", compute=False,
-                      progress=False)
+    table = run_sweep(
+        PRESETS[args.preset](), args.store, on_stale="error", compute=False, progress=False
+    )
     _print_fit(table)
     return 0
 
@@ -156,22 +195,33 @@ def parser() -> argparse.ArgumentParser:
     b = sub.add_parser("buckle", help="one buckling scene: print t_c and kappa3")
     b.add_argument("--a", type=float, required=True, help="loading rate [rad/(m s)]")
     _scene_options(b, kappa0=0.0)
-    b.add_argument("--store", default=None,
-                   help="cache folder: read the scene from it, or compute and add it")
+    b.add_argument(
+        "--store", default=None, help="cache folder: read the scene from it, or compute and add it"
+    )
     b.add_argument("--on-stale", choices=ON_STALE, default="recompute")
     b.set_defaults(func=_buckle)
 
     s = sub.add_parser("sweep", help="a sweep over loading rates (cached, resumable)")
-    s.add_argument("--preset", action="append", choices=sorted(PRESETS),
-                   help="a named sweep (repeatable); see dyntorsion.sweep.PRESETS")
+    s.add_argument(
+        "--preset",
+        action="append",
+        choices=sorted(PRESETS),
+        help="a named sweep (repeatable); see dyntorsion.sweep.PRESETS",
+    )
     s.add_argument("--rates", default=None, help="'0.1,0.4,1.6' or 'geom:LO:HI:N'")
     _scene_options(s, kappa0=10.0)
     s.add_argument("--store", default=str(DATA), help="cache folder (default: data/scenes)")
     s.add_argument("--jobs", type=int, default=1, help="local worker processes")
-    s.add_argument("--dask-local", type=int, default=0, metavar="N",
-                   help="run on a dask.distributed LocalCluster of N workers")
-    s.add_argument("--scheduler", default=None,
-                   help="address of a running dask.distributed scheduler")
+    s.add_argument(
+        "--dask-local",
+        type=int,
+        default=0,
+        metavar="N",
+        help="run on a dask.distributed LocalCluster of N workers",
+    )
+    s.add_argument(
+        "--scheduler", default=None, help="address of a running dask.distributed scheduler"
+    )
     s.add_argument("--on-stale", choices=ON_STALE, default="recompute")
     s.add_argument("--quiet", action="store_true", help="no progress bar or log")
     s.set_defaults(func=_sweep)

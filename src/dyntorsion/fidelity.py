@@ -58,8 +58,7 @@ class Fidelity:
 
     def solve_kwargs(self) -> dict[str, Any]:
         """Keywords for :func:`dyntorsion.waves.solve`."""
-        return {"n_cells": self.n_cells, "dt": self.dt, "lam_s": self.lam_s,
-                "lam_t": self.lam_t}
+        return {"n_cells": self.n_cells, "dt": self.dt, "lam_s": self.lam_s, "lam_t": self.lam_t}
 
     def courant(self, c: float, length: float) -> float:
         return c * self.dt / (length / self.n_cells)
@@ -69,12 +68,21 @@ class Fidelity:
 #: "waves-incompatible": linear loading and instant release (Figs 3, 4), whose
 #: exact solutions jump, so finer grids; "buckling": Figs 7-10 and the sweeps.
 PRESETS: dict[str, dict[str, Fidelity]] = {
-    "waves": {"quick": Fidelity(50, 0.01), "standard": Fidelity(100, 0.005),
-              "paper": Fidelity(400, 0.00125)},
-    "waves-incompatible": {"quick": Fidelity(100, 0.005), "standard": Fidelity(500, 0.001),
-                           "paper": Fidelity(2000, 0.00025)},
-    "buckling": {"quick": Fidelity(50, 0.01), "standard": Fidelity(100, 0.005),
-                 "paper": Fidelity(200, 0.0025)},
+    "waves": {
+        "quick": Fidelity(50, 0.01),
+        "standard": Fidelity(100, 0.005),
+        "paper": Fidelity(400, 0.00125),
+    },
+    "waves-incompatible": {
+        "quick": Fidelity(100, 0.005),
+        "standard": Fidelity(500, 0.001),
+        "paper": Fidelity(2000, 0.00025),
+    },
+    "buckling": {
+        "quick": Fidelity(50, 0.01),
+        "standard": Fidelity(100, 0.005),
+        "paper": Fidelity(200, 0.0025),
+    },
 }
 
 

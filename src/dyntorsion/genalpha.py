@@ -41,11 +41,10 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
+import numba
 import numpy as np
 
 from . import _abd
-import numba
-
 from ._numba import A1, A2, A3, I1, I2, JACOBIAN_SIGNATURE, LOAD_SIGNATURE, jit
 
 __all__ = [
@@ -112,7 +111,9 @@ class Scheme:
                 "that is only first order and, for the hyperbolic torsion rows, unstable "
                 "(spectral radius > 1) and ill-conditioned at small Courant numbers; "
                 "lam_s = -1 (the paper's choice) is the sound one",
-                SchemeWarning, stacklevel=3)
+                SchemeWarning,
+                stacklevel=3,
+            )
 
     @property
     def space(self) -> tuple[float, float, float]:
@@ -156,8 +157,16 @@ class System:
     def from_model(cls, model, *, names, F, dF, params) -> System:
         """A system from a model with ``mass_matrix``, ``stiffness_matrix`` and ``scales()``."""
         ys, rs = model.scales()
-        return cls(names=tuple(names), M=model.mass_matrix, K=model.stiffness_matrix, F=F, dF=dF,
-                   params=params, yscale=ys, rscale=rs)
+        return cls(
+            names=tuple(names),
+            M=model.mass_matrix,
+            K=model.stiffness_matrix,
+            F=F,
+            dF=dF,
+            params=params,
+            yscale=ys,
+            rscale=rs,
+        )
 
     @property
     def nf(self) -> int:
@@ -274,8 +283,15 @@ class Newton:
 
     def packed(self) -> np.ndarray:
         return np.array(
-            [self.tol, self.max_iter, self.lam_min, self.theta_reuse, float(self.reuse),
-             float(self.predictor == "rate")])
+            [
+                self.tol,
+                self.max_iter,
+                self.lam_min,
+                self.theta_reuse,
+                float(self.reuse),
+                float(self.predictor == "rate"),
+            ]
+        )
 
 
 _FAIL = {
@@ -295,14 +311,27 @@ class ConvergenceError(RuntimeError):
     before the failure (set by :func:`integrate`; nothing computed is lost).
     """
 
-    def __init__(self, t: float, step: int, iterations: int, residual: float, reason: str,
-                 run: Run | None = None):
+    def __init__(
+        self,
+        t: float,
+        step: int,
+        iterations: int,
+        residual: float,
+        reason: str,
+        run: Run | None = None,
+    ):
         self.t, self.step, self.iterations, self.residual, self.reason = (
-            t, step, iterations, residual, reason)
+            t,
+            step,
+            iterations,
+            residual,
+            reason,
+        )
         self.run = run
         super().__init__(
             f"Newton failed at t={t:.10g} (step {step}) after {iterations} iterations, "
-            f"residual norm {residual:.3e}: {reason}")
+            f"residual norm {residual:.3e}: {reason}"
+        )
 
 
 # ----------------------------------------------------------------------------- kernels
@@ -576,18 +605,55 @@ def _prepare_step(F, con, ws, qs, qt_old, qt_new, qf_old, qf_new, use_qf):
 
 
 _CON = numba.types.Tuple((A1, A2, A2, A2, A2, A1, A1, A1, A2, A1, A2, A1))
-_WS = numba.types.Tuple((A2, A2, A2, A2, A1, A1, A2, A2, A2, A3, A2, A2, A2, A2, A1, A3, A3, A2,
-                         A2))
+_WS = numba.types.Tuple(
+    (A2, A2, A2, A2, A1, A1, A2, A2, A2, A3, A2, A2, A2, A2, A1, A3, A3, A2, A2)
+)
 _FAC = numba.types.Tuple((A3, I2, A2, I1, A1))
 _MARCH_SIGNATURE = numba.types.int64(
-    numba.types.FunctionType(LOAD_SIGNATURE), numba.types.FunctionType(JACOBIAN_SIGNATURE),
-    _CON, A2, A2, A2, A1, A3, _WS, _FAC, A1, I1, I1, I1, numba.types.int64, numba.types.int64,
-    A2, A2, A1)
+    numba.types.FunctionType(LOAD_SIGNATURE),
+    numba.types.FunctionType(JACOBIAN_SIGNATURE),
+    _CON,
+    A2,
+    A2,
+    A2,
+    A1,
+    A3,
+    _WS,
+    _FAC,
+    A1,
+    I1,
+    I1,
+    I1,
+    numba.types.int64,
+    numba.types.int64,
+    A2,
+    A2,
+    A1,
+)
 
 
 @jit(signature=_MARCH_SIGNATURE)
-def _march(F, dF, con, gL, gR, qs, qt, qf, ws, fac, nt, state, rec_f, rec_n, rec_every,
-           k_offset, rec_out, stats, info):
+def _march(
+    F,
+    dF,
+    con,
+    gL,
+    gR,
+    qs,
+    qt,
+    qf,
+    ws,
+    fac,
+    nt,
+    state,
+    rec_f,
+    rec_n,
+    rec_every,
+    k_offset,
+    rec_out,
+    stats,
+    info,
+):
     """Advance len(gL) - 1 steps.  Returns the number of steps completed."""
     co = con[5]
     yo, ao, y = ws[0], ws[1], ws[2]
@@ -695,8 +761,11 @@ class Run:
 
 
 def _check_positive(name: str, value: float) -> None:
-    if not (isinstance(value, int | float | np.floating | np.integer) and math.isfinite(value)
-            and value > 0):
+    if not (
+        isinstance(value, int | float | np.floating | np.integer)
+        and math.isfinite(value)
+        and value > 0
+    ):
         raise ValueError(f"{name}={value!r} must be a finite number > 0")
 
 
@@ -713,8 +782,9 @@ def consistent_rates(system: System, y0: np.ndarray, ds: float, q0: np.ndarray |
     return rhs @ np.linalg.pinv(system.M).T
 
 
-def algebraic_residual(system: System, y: np.ndarray, ds: float, scheme: Scheme = Scheme(),
-                       q: np.ndarray | None = None) -> np.ndarray:
+def algebraic_residual(
+    system: System, y: np.ndarray, ds: float, scheme: Scheme = Scheme(), q: np.ndarray | None = None
+) -> np.ndarray:
     """The rows without a time derivative (zero rows of M) at one time level, per cell.
 
     For the Cosserat model these are the discrete inextensibility rows
@@ -735,10 +805,19 @@ def algebraic_residual(system: System, y: np.ndarray, ds: float, scheme: Scheme 
     return R[:, alg]
 
 
-def consistent_initial_state(system: System, y0: np.ndarray, *, length: float, left: Boundary,
-                             right: Boundary, scheme: Scheme = Scheme(), t0: float = 0.0,
-                             q0: np.ndarray | None = None, tol: float = 1e-13,
-                             max_iter: int = 20) -> np.ndarray:
+def consistent_initial_state(
+    system: System,
+    y0: np.ndarray,
+    *,
+    length: float,
+    left: Boundary,
+    right: Boundary,
+    scheme: Scheme = Scheme(),
+    t0: float = 0.0,
+    q0: np.ndarray | None = None,
+    tol: float = 1e-13,
+    max_iter: int = 20,
+) -> np.ndarray:
     """The state nearest to y0 (scaled least change) that satisfies the discrete
     algebraic rows and both boundary conditions at t0 exactly (Gauss-Newton).
 
@@ -793,12 +872,26 @@ def consistent_initial_state(system: System, y0: np.ndarray, *, length: float, l
         y += (D @ dz).reshape(n1, nf)
         if np.max(np.abs(dz)) <= tol:
             return y
-    raise ConvergenceError(t0, 0, max_iter, float(np.max(np.abs(res))),
-                           "consistent initial state: Gauss-Newton did not converge")
+    raise ConvergenceError(
+        t0,
+        0,
+        max_iter,
+        float(np.max(np.abs(res))),
+        "consistent initial state: Gauss-Newton did not converge",
+    )
 
 
-def _setup(system: System, scheme: Scheme, n_cells: int, ds: float, dt: float, left: Boundary,
-           right: Boundary, y0: np.ndarray, a0: np.ndarray):
+def _setup(
+    system: System,
+    scheme: Scheme,
+    n_cells: int,
+    ds: float,
+    dt: float,
+    left: Boundary,
+    right: Boundary,
+    y0: np.ndarray,
+    a0: np.ndarray,
+):
     """Constants, work arrays and LU storage of the compiled kernels."""
     nf = system.nf
     ys, rs = np.asarray(system.yscale, float), np.asarray(system.rscale, float)
@@ -811,27 +904,57 @@ def _setup(system: System, scheme: Scheme, n_cells: int, ds: float, dt: float, l
     cM, _, a_s, _, b_t = co[:5]
     P = np.ascontiguousarray(cM * (1 - a_s) * system.M + (1 - b_t) / ds * system.K)
     Q = np.ascontiguousarray(cM * a_s * system.M - (1 - b_t) / ds * system.K)
-    con = (np.ascontiguousarray(system.params, float), np.ascontiguousarray(system.M, float),
-           np.ascontiguousarray(system.K, float), P, Q, co, ys, rs, BLr, blsc, BRr, brsc)
+    con = (
+        np.ascontiguousarray(system.params, float),
+        np.ascontiguousarray(system.M, float),
+        np.ascontiguousarray(system.K, float),
+        P,
+        Q,
+        co,
+        ys,
+        rs,
+        BLr,
+        blsc,
+        BRr,
+        brsc,
+    )
     N1 = n_cells + 1
     nq = N1 if scheme.quadrature == "trapezoidal" else n_cells
     ws = (
-        y0.copy(), a0.copy(), y0.copy(), y0.copy(),                   # yo ao y yt
-        np.zeros(nf * N1), np.zeros(nf * N1),                          # r rt
-        np.zeros((N1, nf)), np.zeros((N1, nf)),                        # dx dxb
-        np.zeros((nq, nf)), np.zeros((nq, nf, nf)),                    # Fn dFn
-        np.zeros((N1, nf)), np.zeros((n_cells, nf)),                   # Fo c
-        np.zeros((n_cells, nf)), np.zeros((N1, nf)), np.zeros(nf),     # ybo z ytmp
-        np.zeros((n_cells, nf, nf)), np.zeros((n_cells, nf, nf)),      # Ablk Bblk
-        BLr * ys / blsc[:, None], BRr * ys / brsc[:, None],            # scaled BC rows
+        y0.copy(),
+        a0.copy(),
+        y0.copy(),
+        y0.copy(),  # yo ao y yt
+        np.zeros(nf * N1),
+        np.zeros(nf * N1),  # r rt
+        np.zeros((N1, nf)),
+        np.zeros((N1, nf)),  # dx dxb
+        np.zeros((nq, nf)),
+        np.zeros((nq, nf, nf)),  # Fn dFn
+        np.zeros((N1, nf)),
+        np.zeros((n_cells, nf)),  # Fo c
+        np.zeros((n_cells, nf)),
+        np.zeros((N1, nf)),
+        np.zeros(nf),  # ybo z ytmp
+        np.zeros((n_cells, nf, nf)),
+        np.zeros((n_cells, nf, nf)),  # Ablk Bblk
+        BLr * ys / blsc[:, None],
+        BRr * ys / brsc[:, None],  # scaled BC rows
     )
     fac = _abd.allocate(n_cells, nf, left.nb)
     return con, ws, fac
 
 
 _ITERATION_SIGNATURE = numba.types.float64(
-    numba.types.FunctionType(LOAD_SIGNATURE), numba.types.FunctionType(JACOBIAN_SIGNATURE),
-    _CON, A1, A1, _WS, _FAC, numba.types.int64)
+    numba.types.FunctionType(LOAD_SIGNATURE),
+    numba.types.FunctionType(JACOBIAN_SIGNATURE),
+    _CON,
+    A1,
+    A1,
+    _WS,
+    _FAC,
+    numba.types.int64,
+)
 
 
 @jit(signature=_ITERATION_SIGNATURE)
@@ -845,14 +968,23 @@ def _full_newton_iterations(F, dF, con, gL, gR, ws, fac, repeats):
     return res
 
 
-def newton_iteration_kernel(system: System, scheme: Scheme, n_cells: int, length: float,
-                            dt: float, left: Boundary, right: Boundary, y: np.ndarray):
+def newton_iteration_kernel(
+    system: System,
+    scheme: Scheme,
+    n_cells: int,
+    length: float,
+    dt: float,
+    left: Boundary,
+    right: Boundary,
+    y: np.ndarray,
+):
     """A callable ``f(repeats)`` doing that many full Newton iterations of a step from
     state y inside compiled code, and the step's scaled Jacobian blocks and
     right-hand side (for benchmarks against LAPACK)."""
     y = np.ascontiguousarray(y, float)
-    con, ws, fac = _setup(system, scheme, n_cells, length / n_cells, dt, left, right, y,
-                          np.zeros_like(y))
+    con, ws, fac = _setup(
+        system, scheme, n_cells, length / n_cells, dt, left, right, y, np.zeros_like(y)
+    )
     gL, gR = left.at(np.array([dt]))[0], right.at(np.array([dt]))[0]
 
     def iteration(repeats: int = 1) -> float:
@@ -928,7 +1060,8 @@ def integrate(
     if left.rows.shape[1] != nf or right.rows.shape[1] != nf or left.nb + right.nb != nf:
         raise ValueError(
             f"boundary rows: need nb_left + nb_right = {nf} rows of {nf} columns, got "
-            f"{left.rows.shape} and {right.rows.shape}")
+            f"{left.rows.shape} and {right.rows.shape}"
+        )
     ds = length / n_cells
     s = np.linspace(0.0, length, n_cells + 1)
     n_steps = max(1, int(math.ceil((t_end - t0) / dt * (1.0 - 1e-12))))
@@ -939,8 +1072,9 @@ def integrate(
     if source is not None:
         q_space = np.ascontiguousarray(source[0], dtype=float)
         if q_space.shape != (n_cells + 1, nf):
-            raise ValueError(f"source space part has shape {q_space.shape}, expected "
-                             f"{(n_cells + 1, nf)}")
+            raise ValueError(
+                f"source space part has shape {q_space.shape}, expected {(n_cells + 1, nf)}"
+            )
         if source[1] is not None:
             q_time = source[1]
 
@@ -971,8 +1105,9 @@ def integrate(
 
     rec = dict(record or {})
     rec_f = np.array([system.index(f) for f, _ in rec.values()], dtype=np.int64)
-    rec_n = np.array([int(n) % N1 if -N1 <= int(n) < N1 else -1 for _, n in rec.values()],
-                     dtype=np.int64)
+    rec_n = np.array(
+        [int(n) % N1 if -N1 <= int(n) < N1 else -1 for _, n in rec.values()], dtype=np.int64
+    )
     if np.any(rec_n < 0):
         raise ValueError(f"record: node indices must be in [-{N1}, {N1})")
     snap_steps = sorted({int(round((ts - t0) / dt)) for ts in snapshots})
@@ -1010,15 +1145,37 @@ def integrate(
             first_rec = (k0 // record_every + 1) * record_every
             rec_steps = np.arange(first_rec, k1 + 1, record_every)
             rec_out = np.zeros((rec_steps.size, len(rec_f)))
-            completed = _march(system.F, system.dF, con, gL, gR, q_space, qt, qf, ws, fac, nt,
-                               state, rec_f, rec_n, record_every, k0, rec_out, stats[k0:k1],
-                               info)
+            completed = _march(
+                system.F,
+                system.dF,
+                con,
+                gL,
+                gR,
+                q_space,
+                qt,
+                qf,
+                ws,
+                fac,
+                nt,
+                state,
+                rec_f,
+                rec_n,
+                record_every,
+                k0,
+                rec_out,
+                stats[k0:k1],
+                info,
+            )
             if completed < k1 - k0:
                 k_fail = k0 + completed + 1
                 failure = ConvergenceError(
-                    float(times[k_fail]), k_fail, int(info[1]), float(info[4]),
+                    float(times[k_fail]),
+                    k_fail,
+                    int(info[1]),
+                    float(info[4]),
                     _FAIL.get(int(info[0]), "unknown")
-                    + " (also after a retry from the other predictor with a fresh Jacobian)")
+                    + " (also after a retry from the other predictor with a fresh Jacobian)",
+                )
                 done = k0 + completed
                 kept = rec_steps <= done
                 rec_t.extend(t0 + dt * rec_steps[kept])
@@ -1063,10 +1220,18 @@ def integrate(
         stopped=stopped,
         names=system.names,
         meta={
-            "n_cells": n_cells, "length": length, "dt": dt, "t0": t0, "t_end": t_end,
-            "scheme": {"lam_s": scheme.lam_s, "lam_t": scheme.lam_t,
-                       "quadrature": scheme.quadrature},
-            "newton": newton.__dict__.copy(), **(meta or {}),
+            "n_cells": n_cells,
+            "length": length,
+            "dt": dt,
+            "t0": t0,
+            "t_end": t_end,
+            "scheme": {
+                "lam_s": scheme.lam_s,
+                "lam_t": scheme.lam_t,
+                "quadrature": scheme.quadrature,
+            },
+            "newton": newton.__dict__.copy(),
+            **(meta or {}),
         },
     )
     if failure is not None:

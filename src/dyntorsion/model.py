@@ -61,7 +61,15 @@ def load_vector(y, p, out):
     rI0, rI1, rI2 = p[1], p[2], p[3]
     B1, B2, C = p[4], p[5], p[6]
     s_wxu, s_kxn, s_kxm, s_d3xn, s_gyro, s_kxw, s_kxu, s_wxd3 = (
-        p[7], p[8], p[9], p[10], p[11], p[12], p[13], p[14])
+        p[7],
+        p[8],
+        p[9],
+        p[10],
+        p[11],
+        p[12],
+        p[13],
+        p[14],
+    )
     u0, u1, u2 = y[0], y[1], y[2]
     w0, w1, w2 = y[3], y[4], y[5]
     k0, k1, k2 = y[6], y[7], y[8]
@@ -108,7 +116,15 @@ def load_jacobian(y, p, out):
     rI0, rI1, rI2 = p[1], p[2], p[3]
     B1, B2, C = p[4], p[5], p[6]
     s_wxu, s_kxn, s_kxm, s_d3xn, s_gyro, s_kxw, s_kxu, s_wxd3 = (
-        p[7], p[8], p[9], p[10], p[11], p[12], p[13], p[14])
+        p[7],
+        p[8],
+        p[9],
+        p[10],
+        p[11],
+        p[12],
+        p[13],
+        p[14],
+    )
     u0, u1, u2 = y[0], y[1], y[2]
     w0, w1, w2 = y[3], y[4], y[5]
     k0, k1, k2 = y[6], y[7], y[8]
@@ -169,7 +185,8 @@ class Cosserat:
             raise ValueError(f"terms: unknown switch(es) {sorted(unknown)}; allowed: {TERMS}")
         if not (np.isfinite(self.rotary_inertia_scale) and self.rotary_inertia_scale >= 0):
             raise ValueError(
-                f"rotary_inertia_scale={self.rotary_inertia_scale!r} must be finite and >= 0")
+                f"rotary_inertia_scale={self.rotary_inertia_scale!r} must be finite and >= 0"
+            )
 
     @property
     def params(self) -> np.ndarray:
@@ -177,7 +194,8 @@ class Cosserat:
         sw = [float(self.terms.get(name, 1.0)) for name in TERMS]
         ri = self.rotary_inertia_scale
         return np.array(
-            [r.rho * r.A, ri * r.rho * r.I1, ri * r.rho * r.I2, r.rho * r.J, r.B1, r.B2, r.C, *sw])
+            [r.rho * r.A, ri * r.rho * r.I1, ri * r.rho * r.I2, r.rho * r.J, r.B1, r.B2, r.C, *sw]
+        )
 
     @property
     def mass_matrix(self) -> np.ndarray:
@@ -212,8 +230,9 @@ class Cosserat:
         return ys, rs
 
     def system(self) -> System:
-        return System.from_model(self, names=FIELDS, F=load_vector, dF=load_jacobian,
-                                 params=self.params)
+        return System.from_model(
+            self, names=FIELDS, F=load_vector, dF=load_jacobian, params=self.params
+        )
 
     def energy_density(self, y: np.ndarray) -> np.ndarray:
         """Kinetic + elastic energy per unit length, 1/2 rhoA|u|^2 + 1/2 w.rhoI w + 1/2 k.K^k."""

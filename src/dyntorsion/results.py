@@ -37,7 +37,7 @@ import tempfile
 import textwrap
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
-from functools import lru_cache
+from functools import cache
 from pathlib import Path
 from typing import Any
 
@@ -73,9 +73,13 @@ class CorruptResultError(RuntimeError):
 def _strip_docstrings(tree: ast.AST) -> ast.AST:
     for node in ast.walk(tree):
         body = getattr(node, "body", None)
-        if (isinstance(body, list) and body and isinstance(body[0], ast.Expr)
-                and isinstance(body[0].value, ast.Constant)
-                and isinstance(body[0].value.value, str)):
+        if (
+            isinstance(body, list)
+            and body
+            and isinstance(body[0], ast.Expr)
+            and isinstance(body[0].value, ast.Constant)
+            and isinstance(body[0].value.value, str)
+        ):
             node.body = body[1:] or [ast.Pass()]
     return tree
 
@@ -86,14 +90,18 @@ def _source_digest(target: str) -> str:
     if attr:
         obj = getattr(obj, attr)
     tree = _strip_docstrings(ast.parse(textwrap.dedent(inspect.getsource(obj))))
+    imports = [n for n in tree.body if isinstance(n, ast.Import | ast.ImportFrom)]
+    rest = [n for n in tree.body if not isinstance(n, ast.Import | ast.ImportFrom)]
+    tree.body = sorted(imports, key=ast.dump) + rest  # a linter's reordering is no change
     return hashlib.sha256(ast.dump(tree).encode()).hexdigest()
 
 
-@lru_cache(maxsize=None)
+@cache
 def code_fingerprint(targets: tuple[str, ...] = FINGERPRINTED) -> str:
-    """Hash of the code that computes cached results: the syntax trees (docstrings
-    and comments removed, so documentation edits do not invalidate data) of the
-    modules and objects in ``targets``."""
+    """Hash of the code that computes cached results: the syntax trees of the modules
+    and objects in ``targets``, with docstrings and comments removed and imports
+    sorted, so documentation edits, formatting and import sorting do not
+    invalidate data."""
     h = hashlib.sha256()
     for target in targets:
         h.update(f"{target}={_source_digest(target)};".encode())
@@ -132,11 +140,16 @@ def provenance(wall_time: float | None = None) -> dict[str, Any]:
     import numpy
 
     from . import __version__
-    return {"package_version": __version__, "code": code_fingerprint(),
-            "python": platform.python_version(), "numpy": numpy.__version__,
-            "numba": numba.__version__,
-            "created": _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"),
-            "wall_time_s": wall_time}
+
+    return {
+        "package_version": __version__,
+        "code": code_fingerprint(),
+        "python": platform.python_version(),
+        "numpy": numpy.__version__,
+        "numba": numba.__version__,
+        "created": _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"),
+        "wall_time_s": wall_time,
+    }
 
 
 # ----------------------------------------------------------------- the store
@@ -152,12 +165,22 @@ class Store:
     def path(self, kind: str, params: Mapping[str, Any]) -> Path:
         return self.root / f"{kind}-{key(kind, params)}.json"
 
-    def save(self, kind: str, params: Mapping[str, Any], result: Mapping[str, Any],
-             wall_time: float | None = None) -> Path:
+    def save(
+        self,
+        kind: str,
+        params: Mapping[str, Any],
+        result: Mapping[str, Any],
+        wall_time: float | None = None,
+    ) -> Path:
         """Write one record atomically; returns its path."""
-        record = {"schema": SCHEMA, "kind": kind, "key": key(kind, params),
-                  "params": _plain(params), "result": _plain(result),
-                  "provenance": provenance(wall_time)}
+        record = {
+            "schema": SCHEMA,
+            "kind": kind,
+            "key": key(kind, params),
+            "params": _plain(params),
+            "result": _plain(result),
+            "provenance": provenance(wall_time),
+        }
         record["hash"] = digest({"kind": kind, "params": params, "result": result})
         self.root.mkdir(parents=True, exist_ok=True)
         target = self.path(kind, params)
@@ -184,13 +207,16 @@ class Store:
             raise CorruptResultError(f"{path}: unreadable record ({err})") from err
         expected = digest({k: record.get(k) for k in ("kind", "params", "result")})
         if record.get("hash") != expected:
-            raise CorruptResultError(f"{path}: content hash does not match its content "
-                                     "(damaged or edited by hand); delete it to recompute")
+            raise CorruptResultError(
+                f"{path}: content hash does not match its content "
+                "(damaged or edited by hand); delete it to recompute"
+            )
         return record
 
     def staleness(self, record: Mapping[str, Any]) -> str | None:
         """Why a record is stale, or None if it matches the current code."""
         from . import __version__
+
         prov = record.get("provenance", {})
         reasons = []
         if record.get("schema") != SCHEMA:
@@ -198,12 +224,15 @@ class Store:
         if prov.get("package_version") != __version__:
             reasons.append(f"package version {prov.get('package_version')} != {__version__}")
         if prov.get("code") != code_fingerprint():
-            reasons.append(f"code fingerprint {prov.get('code')} != {code_fingerprint()} "
-                           "(the numerical code changed since it was computed)")
+            reasons.append(
+                f"code fingerprint {prov.get('code')} != {code_fingerprint()} "
+                "(the numerical code changed since it was computed)"
+            )
         return "; ".join(reasons) or None
 
-    def load(self, kind: str, params: Mapping[str, Any],
-             on_stale: str = "recompute") -> dict[str, Any] | None:
+    def load(
+        self, kind: str, params: Mapping[str, Any], on_stale: str = "recompute"
+    ) -> dict[str, Any] | None:
         """The record for (kind, params), or None if it must be computed."""
         if on_stale not in ON_STALE:
             raise ValueError(f"on_stale={on_stale!r}; allowed: {', '.join(ON_STALE)}")
@@ -212,14 +241,17 @@ class Store:
             return None
         record = self.read(path)
         if canonical(record["params"]) != canonical(params):
-            raise StaleResultError(f"{path}: its parameters differ from the request "
-                                   "(hash collision or a renamed file)")
+            raise StaleResultError(
+                f"{path}: its parameters differ from the request (hash collision or a renamed file)"
+            )
         why = self.staleness(record)
         if why is None or on_stale == "accept":
             return record
         if on_stale == "error":
-            raise StaleResultError(f"{path} is stale: {why}. Recompute it with `make data` "
-                                   "(or the sweep command with --on-stale recompute)")
+            raise StaleResultError(
+                f"{path} is stale: {why}. Recompute it with `make data` "
+                "(or the sweep command with --on-stale recompute)"
+            )
         return None
 
     def records(self, kind: str | None = None) -> Iterator[dict[str, Any]]:

@@ -17,8 +17,16 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["hat", "rodrigues", "frames_along", "centreline", "left_end_frame", "shape",
-           "FrameTracker", "self_contact"]
+__all__ = [
+    "hat",
+    "rodrigues",
+    "frames_along",
+    "centreline",
+    "left_end_frame",
+    "shape",
+    "FrameTracker",
+    "self_contact",
+]
 
 
 def hat(x: np.ndarray) -> np.ndarray:
@@ -92,7 +100,7 @@ class FrameTracker:
         self.r = np.array(r, dtype=float)
 
     def step(self, w_old, w_new, u_old, u_new, dt: float) -> None:
-        v_old = np.einsum("nji,nj->ni", self.R, u_old)          # R^T u
+        v_old = np.einsum("nji,nj->ni", self.R, u_old)  # R^T u
         self.R = rodrigues(0.5 * dt * (np.asarray(w_new) + np.asarray(w_old))) @ self.R
         v_new = np.einsum("nji,nj->ni", self.R, u_new)
         self.r = self.r + 0.5 * dt * (v_old + v_new)
@@ -107,8 +115,9 @@ def _segment_distances(p0, p1, q0, q1):
     c = np.einsum("ij,ij->i", d1, r)
     b = np.einsum("ij,ij->i", d1, d2)
     denom = a * e - b * b
-    s = np.where(denom > 1e-14 * a * e, np.clip((b * f - c * e) / np.where(denom > 0, denom, 1),
-                                               0, 1), 0.0)
+    s = np.where(
+        denom > 1e-14 * a * e, np.clip((b * f - c * e) / np.where(denom > 0, denom, 1), 0, 1), 0.0
+    )
     t = (b * s + f) / e
     t_c = np.clip(t, 0, 1)
     s = np.where(t != t_c, np.clip((b * t_c - c) / a, 0, 1), s)

@@ -31,8 +31,19 @@ from .genalpha import Newton, Scheme
 from .results import Store, digest
 from .rod import Rod
 
-__all__ = ["Scene", "run_scene", "run_sweep", "MissingResultError", "KIND", "DATA",
-           "FIG10_RATES", "SEEDS", "PRESETS", "preset", "paper_law"]
+__all__ = [
+    "Scene",
+    "run_scene",
+    "run_sweep",
+    "MissingResultError",
+    "KIND",
+    "DATA",
+    "FIG10_RATES",
+    "SEEDS",
+    "PRESETS",
+    "preset",
+    "paper_law",
+]
 
 KIND = "buckling-onset"
 
@@ -90,8 +101,10 @@ class Scene:
         if self.t_end is not None and not (math.isfinite(self.t_end) and self.t_end > 0):
             raise ValueError(f"t_end={self.t_end!r} must be > 0 (or None for the horizon rule)")
         if self.duration() <= 0:
-            raise ValueError(f"kappa0={self.kappa0} lies beyond the horizon twist "
-                             f"{self.kappa0 + self.a * self.duration():.4g}; give t_end")
+            raise ValueError(
+                f"kappa0={self.kappa0} lies beyond the horizon twist "
+                f"{self.kappa0 + self.a * self.duration():.4g}; give t_end"
+            )
 
     def duration(self) -> float:
         """The run's t_end (explicit, or from the horizon rule)."""
@@ -104,36 +117,66 @@ class Scene:
     def params(self) -> dict[str, Any]:
         """Everything the result depends on (the cache key)."""
         r = self.rod
-        return {"rod": {"E": r.E, "nu": r.nu, "D": r.D, "L": r.L, "rho": r.rho},
-                "a": self.a, "kappa0": self.kappa0, "perturbation": asdict(self.seed),
-                "n_cells": self.n_cells, "dt": self.dt, "t_end": self.duration(),
-                "scheme": asdict(self.scheme), "newton": asdict(self.newton),
-                "onset": {"window": list(self.window),
-                          "variations": [list(v) for v in self.variations]}}
+        return {
+            "rod": {"E": r.E, "nu": r.nu, "D": r.D, "L": r.L, "rho": r.rho},
+            "a": self.a,
+            "kappa0": self.kappa0,
+            "perturbation": asdict(self.seed),
+            "n_cells": self.n_cells,
+            "dt": self.dt,
+            "t_end": self.duration(),
+            "scheme": asdict(self.scheme),
+            "newton": asdict(self.newton),
+            "onset": {
+                "window": list(self.window),
+                "variations": [list(v) for v in self.variations],
+            },
+        }
 
     def label(self) -> str:
-        return (f"a={self.a:.4g} kappa0={self.kappa0:g} rho={self.rod.rho:g} "
-                f"seed={self.seed.magnitude:g} N={self.n_cells} dt={self.dt:g}")
+        return (
+            f"a={self.a:.4g} kappa0={self.kappa0:g} rho={self.rod.rho:g} "
+            f"seed={self.seed.magnitude:g} N={self.n_cells} dt={self.dt:g}"
+        )
 
 
 def run_scene(scene: Scene) -> dict[str, Any]:
     """Simulate one scene and detect its onset (section 6): a JSON-ready dict."""
-    run = simulate(scene.rod, a=scene.a, kappa0=scene.kappa0, n_cells=scene.n_cells,
-                   dt=scene.dt, t_end=scene.duration(), perturbation=scene.seed,
-                   scheme=scene.scheme, newton=scene.newton, progress=False,
-                   on_failure="return")
-    out: dict[str, Any] = {"stopped": run.stopped, "steps": int(run.t.size - 1),
-                           "t_last": float(run.t[-1]),
-                           "u3_peak": float(np.max(np.abs(run.u3_end)))}
+    run = simulate(
+        scene.rod,
+        a=scene.a,
+        kappa0=scene.kappa0,
+        n_cells=scene.n_cells,
+        dt=scene.dt,
+        t_end=scene.duration(),
+        perturbation=scene.seed,
+        scheme=scene.scheme,
+        newton=scene.newton,
+        progress=False,
+        on_failure="return",
+    )
+    out: dict[str, Any] = {
+        "stopped": run.stopped,
+        "steps": int(run.t.size - 1),
+        "t_last": float(run.t[-1]),
+        "u3_peak": float(np.max(np.abs(run.u3_end))),
+    }
     try:
         onset = detect_onset(run, window=scene.window, variations=scene.variations)
     except ValueError as err:
-        out.update(onset_error=str(err), t_c=None, kappa3=None, uncertainty_t=None,
-                   uncertainty_kappa3=None)
+        out.update(
+            onset_error=str(err), t_c=None, kappa3=None, uncertainty_t=None, uncertainty_kappa3=None
+        )
         return out
-    out.update(onset_error=None, t_c=onset.t_c, kappa3=onset.kappa3,
-               uncertainty_t=onset.uncertainty_t, uncertainty_kappa3=onset.uncertainty_kappa3,
-               slope=onset.slope, intercept=onset.intercept)
+    out.update(
+        onset_error=None,
+        t_c=onset.t_c,
+        kappa3=onset.kappa3,
+        uncertainty_t=onset.uncertainty_t,
+        uncertainty_kappa3=onset.uncertainty_kappa3,
+        slope=onset.slope,
+        intercept=onset.intercept,
+    )
     return out
 
 
@@ -150,22 +193,38 @@ class MissingResultError(LookupError):
 def _row(scene: Scene, record: dict[str, Any], cached: bool) -> dict[str, Any]:
     res = record["result"]
     family = {k: v for k, v in record["params"].items() if k not in ("a", "t_end")}
-    return {"a": scene.a, "kappa0": scene.kappa0, "rho": scene.rod.rho,
-            "seed": scene.seed.magnitude, "seed_form": scene.seed.form,
-            "n_cells": scene.n_cells, "dt": scene.dt,
-            "t_c": res["t_c"], "kappa3": res["kappa3"],
-            "uncertainty_t": res["uncertainty_t"],
-            "uncertainty_kappa3": res["uncertainty_kappa3"],
-            "stopped": res["stopped"], "steps": res["steps"],
-            "wall_time_s": record["provenance"].get("wall_time_s"),
-            "key": record["key"], "family": digest(family)[:12], "cached": cached}
+    return {
+        "a": scene.a,
+        "kappa0": scene.kappa0,
+        "rho": scene.rod.rho,
+        "seed": scene.seed.magnitude,
+        "seed_form": scene.seed.form,
+        "n_cells": scene.n_cells,
+        "dt": scene.dt,
+        "t_c": res["t_c"],
+        "kappa3": res["kappa3"],
+        "uncertainty_t": res["uncertainty_t"],
+        "uncertainty_kappa3": res["uncertainty_kappa3"],
+        "stopped": res["stopped"],
+        "steps": res["steps"],
+        "wall_time_s": record["provenance"].get("wall_time_s"),
+        "key": record["key"],
+        "family": digest(family)[:12],
+        "cached": cached,
+    }
 
 
-def run_sweep(scenes: Sequence[Scene], store: Store | str | Path | None = None, *,
-              executor: cf.Executor | None = None, jobs: int = 1,
-              on_stale: str = "recompute", compute: bool = True,
-              progress: bool | None = None,
-              log: Callable[[str], None] | None = None) -> pd.DataFrame:
+def run_sweep(
+    scenes: Sequence[Scene],
+    store: Store | str | Path | None = None,
+    *,
+    executor: cf.Executor | None = None,
+    jobs: int = 1,
+    on_stale: str = "recompute",
+    compute: bool = True,
+    progress: bool | None = None,
+    log: Callable[[str], None] | None = None,
+) -> pd.DataFrame:
     """Run (or read back) a sweep; one table row per scene, in the given order.
 
     Scenes that differ only in the loading rate share a ``family`` (a hash of
@@ -197,8 +256,10 @@ def run_sweep(scenes: Sequence[Scene], store: Store | str | Path | None = None, 
             records[i] = (rec, True)
     if todo and not compute:
         missing = "\n  ".join(scenes[i].label() for i in todo)
-        raise MissingResultError(f"{len(todo)} scene(s) are not in {store.root}:\n  {missing}\n"
-                                 "compute them with `make data` (or `dyntorsion sweep`)")
+        raise MissingResultError(
+            f"{len(todo)} scene(s) are not in {store.root}:\n  {missing}\n"
+            "compute them with `make data` (or `dyntorsion sweep`)"
+        )
 
     def finish(i: int, result: dict[str, Any], wall: float) -> None:
         path = store.save(KIND, scenes[i].params(), result, wall_time=wall)
@@ -208,6 +269,7 @@ def run_sweep(scenes: Sequence[Scene], store: Store | str | Path | None = None, 
     bar = None
     if todo and (progress or progress is None):
         from tqdm.auto import tqdm
+
         bar = tqdm(total=len(todo), unit="scene", disable=None if progress is None else False)
     try:
         if executor is None and jobs == 1:
@@ -218,7 +280,8 @@ def run_sweep(scenes: Sequence[Scene], store: Store | str | Path | None = None, 
         elif todo:
             own = executor is None
             pool = executor or cf.ProcessPoolExecutor(
-                max_workers=jobs, mp_context=multiprocessing.get_context("spawn"))
+                max_workers=jobs, mp_context=multiprocessing.get_context("spawn")
+            )
             futures: dict[cf.Future, int] = {}
             try:
                 futures = {pool.submit(_timed, scenes[i]): i for i in todo}
@@ -245,8 +308,7 @@ FIG10_RATES: tuple[float, ...] = tuple(float(1.6 * 10 ** (k / 6)) for k in range
 
 #: the seed stated in section 6 (1e-8 N, read as N/m along the rod) and the seed
 #: that reproduces the onset times of Figs 8 and 9 (see the Fig 8 page)
-SEEDS: dict[str, Perturbation] = {"stated": Perturbation(1e-8),
-                                  "tiny": Perturbation(1e-17)}
+SEEDS: dict[str, Perturbation] = {"stated": Perturbation(1e-8), "tiny": Perturbation(1e-17)}
 
 
 def _fig10(seed: str, rates: Iterable[float] = FIG10_RATES, **grid: Any) -> list[Scene]:
@@ -254,14 +316,16 @@ def _fig10(seed: str, rates: Iterable[float] = FIG10_RATES, **grid: Any) -> list
 
 
 def _fig08_09(seed: str) -> list[Scene]:
-    return [Scene(a=1.6, kappa0=0.0, rod=Rod(rho=rho), seed=SEEDS[seed])
-            for rho in (1500.0, 5000.0)]
+    return [
+        Scene(a=1.6, kappa0=0.0, rod=Rod(rho=rho), seed=SEEDS[seed]) for rho in (1500.0, 5000.0)
+    ]
 
 
 def _grid(seed: str) -> list[Scene]:
     ends = (FIG10_RATES[0], 1.6, FIG10_RATES[-1])
-    return [sc for n, dt in ((50, 0.01), (200, 0.0025)) for sc in _fig10(seed, ends,
-                                                                        n_cells=n, dt=dt)]
+    return [
+        sc for n, dt in ((50, 0.01), (200, 0.0025)) for sc in _fig10(seed, ends, n_cells=n, dt=dt)
+    ]
 
 
 #: the grid ladder of the accuracy-and-cost page: N x dt, Courant number 28.9 on the diagonal
@@ -273,6 +337,17 @@ NEWTON_TOLS: tuple[float, ...] = (1e-3, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12)
 
 def _ladder(a: float, kappa0: float) -> list[Scene]:
     return [Scene(a=a, kappa0=kappa0, n_cells=n, dt=dt) for n in LADDER_N for dt in LADDER_DT]
+
+
+#: the seeds of the Fig 8 page: uniform magnitudes [N/m], then point forces of 1e-8 N
+FIG08_SEEDS: tuple[Perturbation, ...] = (
+    *(Perturbation(m) for m in (1e-6, 1e-8, 1e-10, 1e-12, 1e-14, 1e-16, 1e-17)),
+    *(Perturbation(1e-8, "point", x) for x in (0.5, 0.1, 0.9)),
+)
+
+
+def _fig08_seeds() -> list[Scene]:
+    return [Scene(a=1.6, kappa0=0.0, seed=seed) for seed in FIG08_SEEDS]
 
 
 def _newton(a: float, kappa0: float) -> list[Scene]:
@@ -291,6 +366,7 @@ PRESETS: dict[str, Callable[[], list[Scene]]] = {
     "accuracy-fast": lambda: _ladder(16.0, 10.0),
     "newton-fig08": lambda: _newton(1.6, 0.0),
     "newton-fast": lambda: _newton(16.0, 10.0),
+    "fig08-seeds": _fig08_seeds,
 }
 
 

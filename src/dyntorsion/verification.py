@@ -35,8 +35,9 @@ class Manufactured:
     ps: np.ndarray
 
     @classmethod
-    def random(cls, seed: int = 1, rod: Rod | None = None, amplitude: float = 1.0,
-               frequency: float = 1.0) -> Manufactured:
+    def random(
+        cls, seed: int = 1, rod: Rod | None = None, amplitude: float = 1.0, frequency: float = 1.0
+    ) -> Manufactured:
         """A solution whose fields are ``amplitude`` x their characteristic scale and vary
         on O(L) in space and O(T0 / frequency) in time (T0 the bending time)."""
         rod = rod or Rod(E=100.0, nu=0.3, D=0.3, L=1.0, rho=1.0)
@@ -71,8 +72,15 @@ class Manufactured:
         y = self.y(s, t)
         return -(self.y_t(s, t) @ system.M.T + self.y_s(s, t) @ system.K.T + system.load(y))
 
-    def solve(self, n_cells: int, dt: float, t_end: float, scheme: ga.Scheme = ga.Scheme(),
-              newton: ga.Newton = ga.Newton(tol=1e-12), project: bool = True) -> ga.Run:
+    def solve(
+        self,
+        n_cells: int,
+        dt: float,
+        t_end: float,
+        scheme: ga.Scheme = ga.Scheme(),
+        newton: ga.Newton = ga.Newton(tol=1e-12),
+        project: bool = True,
+    ) -> ga.Run:
         """Discrete solution.  y*(s, 0) satisfies the discrete constraint rows only to
         O(ds^2), so by default it is first projected onto them
         (:func:`~dyntorsion.genalpha.consistent_initial_state`)."""
@@ -81,17 +89,31 @@ class Manufactured:
         s = np.linspace(0.0, L, n_cells + 1)
         li = [system.index(f) for f in LEFT_FIELDS]
         ri = [system.index(f) for f in RIGHT_FIELDS]
-        left = ga.Boundary.fields(system, LEFT_FIELDS,
-                                  lambda t: np.array([self.y([0.0], ti)[0][li] for ti in t]))
-        right = ga.Boundary.fields(system, RIGHT_FIELDS,
-                                   lambda t: np.array([self.y([L], ti)[0][ri] for ti in t]))
+        left = ga.Boundary.fields(
+            system, LEFT_FIELDS, lambda t: np.array([self.y([0.0], ti)[0][li] for ti in t])
+        )
+        right = ga.Boundary.fields(
+            system, RIGHT_FIELDS, lambda t: np.array([self.y([L], ti)[0][ri] for ti in t])
+        )
         y0 = self.y(s, 0.0)
         if project:
-            y0 = ga.consistent_initial_state(system, y0, length=L, left=left, right=right,
-                                             scheme=scheme, q0=self.source(s, 0.0))
-        return ga.integrate(system, n_cells=n_cells, length=L, dt=dt, t_end=t_end,
-                            y0=y0, y_t0=self.y_t(s, 0.0), left=left, right=right,
-                            scheme=scheme, source_field=self.source, newton=newton)
+            y0 = ga.consistent_initial_state(
+                system, y0, length=L, left=left, right=right, scheme=scheme, q0=self.source(s, 0.0)
+            )
+        return ga.integrate(
+            system,
+            n_cells=n_cells,
+            length=L,
+            dt=dt,
+            t_end=t_end,
+            y0=y0,
+            y_t0=self.y_t(s, 0.0),
+            left=left,
+            right=right,
+            scheme=scheme,
+            source_field=self.source,
+            newton=newton,
+        )
 
     def error(self, run: ga.Run) -> float:
         """Max over nodes and fields of |y - y*| / yscale at the final time."""

@@ -89,8 +89,9 @@ class Torsion:
         return ys, rs
 
     def system(self) -> System:
-        return System.from_model(self, names=FIELDS, F=_no_load, dF=_no_load_jacobian,
-                                 params=np.zeros(1))
+        return System.from_model(
+            self, names=FIELDS, F=_no_load, dF=_no_load_jacobian, params=np.zeros(1)
+        )
 
     def energy(self, y: np.ndarray, ds: float) -> float:
         """Discrete energy of the box scheme: sum over cells of ds (rhoJ wbar^2 + C kbar^2)/2.
@@ -137,13 +138,16 @@ class Transition:
         """f^(k)(0+) for k = 0 .. orders-1 (the compatibility data of section 5)."""
         with mpmath.workdps(60):
             eps = mpmath.mpf(10) ** -40
-            return [float(self.mp(eps, k)) if k <= self.max_order else math.nan
-                    for k in range(orders)]
+            return [
+                float(self.mp(eps, k)) if k <= self.max_order else math.nan for k in range(orders)
+            ]
 
     def _check_order(self, k: int) -> None:
         if not (isinstance(k, int | np.integer) and 0 <= k <= self.max_order):
-            raise ValueError(f"derivative order k={k!r} must be an integer in [0, "
-                             f"{self.max_order}] for {self.name}")
+            raise ValueError(
+                f"derivative order k={k!r} must be an integer in [0, "
+                f"{self.max_order}] for {self.name}"
+            )
 
     def _positive(self, x: np.ndarray, k: int) -> np.ndarray:  # pragma: no cover - abstract
         raise NotImplementedError
@@ -228,8 +232,9 @@ class FlatBlend(Transition):
 
     @staticmethod
     def _inner(u, one, fact):
-        return [fact(j) / (one - u) ** (j + 1) - (-1) ** j * fact(j) / u ** (j + 1)
-                for j in range(5)]
+        return [
+            fact(j) / (one - u) ** (j + 1) - (-1) ** j * fact(j) / u ** (j + 1) for j in range(5)
+        ]
 
     def _positive(self, x, k):
         u = x / self.width
@@ -259,8 +264,12 @@ class CustomTransition(Transition):
     f'' is needed by eq (29); f''' as well to choose the term count from a tolerance.
     """
 
-    def __init__(self, numpy: Sequence[Callable], mpmath_: Sequence[Callable] | None = None,
-                 name: str = "custom"):
+    def __init__(
+        self,
+        numpy: Sequence[Callable],
+        mpmath_: Sequence[Callable] | None = None,
+        name: str = "custom",
+    ):
         if len(numpy) < 3:
             raise ValueError("numpy must list at least f, f' and f''")
         self._np = list(numpy)
@@ -315,8 +324,13 @@ def _grid(s, t, L):
     return np.broadcast_arrays(s, t)
 
 
-def _terms(terms, tol, needed: Callable[[float], int], default_tol: float = DEFAULT_TOL,
-           max_terms: int = MAX_TERMS) -> int:
+def _terms(
+    terms,
+    tol,
+    needed: Callable[[float], int],
+    default_tol: float = DEFAULT_TOL,
+    max_terms: int = MAX_TERMS,
+) -> int:
     """Term count from ``terms`` or from the tolerance on the truncation bound."""
     if terms is not None:
         if not (isinstance(terms, int | np.integer) and terms >= 1):
@@ -327,7 +341,8 @@ def _terms(terms, tol, needed: Callable[[float], int], default_tol: float = DEFA
     if n > max_terms:
         raise ValueError(
             f"tol={tol:g} needs {n} series terms (> {max_terms}); loosen tol, "
-            "pass terms=..., or use the d'Alembert solution")
+            "pass terms=..., or use the d'Alembert solution"
+        )
     return max(int(n), 1)
 
 
@@ -342,15 +357,19 @@ def _chunked_sum(n_terms: int, term: Callable[[np.ndarray], np.ndarray], shape) 
     size = max(1, int(np.prod(shape)))
     chunk = max(1, min(n_terms, 4_000_000 // size))
     for n0 in range(1, n_terms + 1, chunk):
-        n = np.arange(n0, min(n0 + chunk, n_terms + 1), dtype=float).reshape((-1,) + (1,) * len(shape))
+        n = np.arange(n0, min(n0 + chunk, n_terms + 1), dtype=float).reshape(
+            (-1,) + (1,) * len(shape)
+        )
         out += term(n).sum(axis=0)
     return out
 
 
 def _mp_array(fn, s, t, digits: int) -> np.ndarray:
     with mpmath.workdps(digits):
-        vals = [fn(mpmath.mpf(float(si)), mpmath.mpf(float(ti)))
-                for si, ti in zip(s.ravel(), t.ravel(), strict=True)]
+        vals = [
+            fn(mpmath.mpf(float(si)), mpmath.mpf(float(ti)))
+            for si, ti in zip(s.ravel(), t.ravel(), strict=True)
+        ]
     return np.array(vals, dtype=object).reshape(s.shape)
 
 
@@ -373,9 +392,19 @@ def linear_loading_bound(terms: int, s=None, t=None, *, a: float, c: float, L: f
     return np.minimum(uniform, 8 * abs(a) * L / (c * math.pi**2 * (2 * terms + 1) ** 2) * inv)
 
 
-def linear_loading_exact(s, t, *, a: float, kappa0: float = 0.0, c: float, L: float,
-                         terms: int | None = None, tol: float | None = None,
-                         precise: bool = False, digits: int = DEFAULT_DIGITS) -> np.ndarray:
+def linear_loading_exact(
+    s,
+    t,
+    *,
+    a: float,
+    kappa0: float = 0.0,
+    c: float,
+    L: float,
+    terms: int | None = None,
+    tol: float | None = None,
+    precise: bool = False,
+    digits: int = DEFAULT_DIGITS,
+) -> np.ndarray:
     """Eq (25): kappa(s, t) for kappa(0, t) = kappa0 + a t, kappa_s(L, t) = 0 (eq 23).
 
         kappa = kappa0 + a t - sum_n 2a / (L c lambda_n) sin(c sqrt(lambda_n) t) sin(sqrt(lambda_n) s)
@@ -393,13 +422,19 @@ def linear_loading_exact(s, t, *, a: float, kappa0: float = 0.0, c: float, L: fl
     def needed(tol):
         uniform = math.ceil((4 * abs(a) * L / (c * math.pi**2 * tol) + 1) / 2)
         with np.errstate(divide="ignore"):
-            inv = max(float(np.max(1.0 / np.abs(np.sin(np.pi * (c * t + sign * s) / (2 * L)))))
-                      for sign in (1, -1)) * 2
+            inv = (
+                max(
+                    float(np.max(1.0 / np.abs(np.sin(np.pi * (c * t + sign * s) / (2 * L)))))
+                    for sign in (1, -1)
+                )
+                * 2
+            )
         pointwise = math.ceil((math.sqrt(8 * abs(a) * L * inv / (c * math.pi**2 * tol)) - 1) / 2)
         return min(uniform, pointwise)
 
     n_terms = _terms(terms, tol, needed)
     if precise:
+
         def point(si, ti):
             mL, mc, ma = mpmath.mpf(L), mpmath.mpf(c), mpmath.mpf(a)
             total = mpmath.mpf(kappa0) + ma * ti
@@ -433,9 +468,18 @@ def instant_release_bound(terms: int, s, t, *, kappa0: float, c: float, L: float
     return 4 * abs(kappa0) / (math.pi * (2 * terms + 1)) * inv
 
 
-def instant_release_exact(s, t, *, kappa0: float, c: float, L: float,
-                          terms: int | None = None, tol: float | None = None,
-                          precise: bool = False, digits: int = DEFAULT_DIGITS) -> np.ndarray:
+def instant_release_exact(
+    s,
+    t,
+    *,
+    kappa0: float,
+    c: float,
+    L: float,
+    terms: int | None = None,
+    tol: float | None = None,
+    precise: bool = False,
+    digits: int = DEFAULT_DIGITS,
+) -> np.ndarray:
     """Eq (27): kappa(s, t) after the twist kappa0 is released at t = 0 (eq 26).
 
         kappa = sum_n 2 kappa0 / (L sqrt(lambda_n)) (-1)^(n-1) cos(c sqrt(lambda_n) t) cos(sqrt(lambda_n) s)
@@ -457,13 +501,20 @@ def instant_release_exact(s, t, *, kappa0: float, c: float, L: float,
 
     n_terms = _terms(terms, tol, needed)
     if precise:
+
         def point(si, ti):
             mL, mc = mpmath.mpf(L), mpmath.mpf(c)
             total = mpmath.mpf(0)
             for n in range(1, n_terms + 1):
                 k = (2 * n - 1) * mpmath.pi / (2 * mL)
-                total += (2 * kappa0 / (mL * k) * (-1) ** (n - 1)
-                          * mpmath.cos(mc * k * ti) * mpmath.cos(k * si))
+                total += (
+                    2
+                    * kappa0
+                    / (mL * k)
+                    * (-1) ** (n - 1)
+                    * mpmath.cos(mc * k * ti)
+                    * mpmath.cos(k * si)
+                )
             return total
 
         return _mp_array(point, s, t, digits)
@@ -502,13 +553,26 @@ def _duhamel_mp(t, n: int, f: Transition, rate, c, L):
     omega = c * (2 * n - 1) * mpmath.pi / (2 * L)
     if t == 0:
         return mpmath.mpf(0)
-    pieces = int(max(2, math.ceil(float(omega * t) / (2 * math.pi)), math.ceil(float(rate * t) / 0.2)))
-    return mpmath.quad(lambda tau: f.mp(rate * tau, 2) * mpmath.sin(omega * (t - tau)),
-                       mpmath.linspace(0, t, pieces + 1), method="gauss-legendre")
+    pieces = int(
+        max(2, math.ceil(float(omega * t) / (2 * math.pi)), math.ceil(float(rate * t) / 0.2))
+    )
+    return mpmath.quad(
+        lambda tau: f.mp(rate * tau, 2) * mpmath.sin(omega * (t - tau)),
+        mpmath.linspace(0, t, pieces + 1),
+        method="gauss-legendre",
+    )
 
 
-def smooth_release_bound(terms: int, t, *, kappa0: float, c: float, L: float, rate: float = 50.0,
-                         f: Transition = DEFAULT_TRANSITION) -> np.ndarray:
+def smooth_release_bound(
+    terms: int,
+    t,
+    *,
+    kappa0: float,
+    c: float,
+    L: float,
+    rate: float = 50.0,
+    f: Transition = DEFAULT_TRANSITION,
+) -> np.ndarray:
     """Bound on the truncation error of eq (29) after ``terms`` terms, uniform in s.
 
     Integrating I_n by parts once,
@@ -525,17 +589,41 @@ def smooth_release_bound(terms: int, t, *, kappa0: float, c: float, L: float, ra
         h = np.diff(edges)[:, None]
         xq = (edges[:-1, None] + 0.5 * h * (xg + 1)).ravel()
         wq = (0.5 * h * wg).ravel()
-        B = (abs(float(f(x_end, 2))) + abs(float(f(np.nextafter(0.0, 1.0), 2)))
-             + float(np.sum(np.abs(f(xq, 3)) * wq))) if x_end > 0 else 0.0
-        out.append(2 * rate**2 * abs(kappa0) * B / (L * c**2) * (2 * L / math.pi) ** 3
-                   / (4 * (2 * terms - 1) ** 2))
+        B = (
+            (
+                abs(float(f(x_end, 2)))
+                + abs(float(f(np.nextafter(0.0, 1.0), 2)))
+                + float(np.sum(np.abs(f(xq, 3)) * wq))
+            )
+            if x_end > 0
+            else 0.0
+        )
+        out.append(
+            2
+            * rate**2
+            * abs(kappa0)
+            * B
+            / (L * c**2)
+            * (2 * L / math.pi) ** 3
+            / (4 * (2 * terms - 1) ** 2)
+        )
     return np.array(out).reshape(t.shape)
 
 
-def smooth_release_exact(s, t, *, kappa0: float, c: float, L: float, rate: float = 50.0,
-                         f: Transition = DEFAULT_TRANSITION, terms: int | None = None,
-                         tol: float | None = None, precise: bool = False,
-                         digits: int = DEFAULT_DIGITS) -> np.ndarray:
+def smooth_release_exact(
+    s,
+    t,
+    *,
+    kappa0: float,
+    c: float,
+    L: float,
+    rate: float = 50.0,
+    f: Transition = DEFAULT_TRANSITION,
+    terms: int | None = None,
+    tol: float | None = None,
+    precise: bool = False,
+    digits: int = DEFAULT_DIGITS,
+) -> np.ndarray:
     """Eq (29): kappa(s, t) for kappa(L, t) = kappa0 f(rate t), kappa_s(0, t) = 0 (eq 28).
 
         kappa = kappa0 f(rate t) + int_0^t eta dtau,
@@ -557,8 +645,9 @@ def smooth_release_exact(s, t, *, kappa0: float, c: float, L: float, rate: float
     def needed(tol):
         if f.max_order < 3:
             raise ValueError(f"{f.name}: a tolerance needs f'''; pass terms=...")
-        worst = float(np.max(smooth_release_bound(1, np.unique(t), kappa0=kappa0, c=c, L=L,
-                                                  rate=rate, f=f)))
+        worst = float(
+            np.max(smooth_release_bound(1, np.unique(t), kappa0=kappa0, c=c, L=L, rate=rate, f=f))
+        )
         return math.ceil((math.sqrt(worst / tol) + 1) / 2)
 
     n_terms = _terms(terms, tol, needed, DEFAULT_TOL_DUHAMEL, MAX_TERMS_DUHAMEL)
@@ -577,7 +666,9 @@ def smooth_release_exact(s, t, *, kappa0: float, c: float, L: float, rate: float
                 total = mk * f.mp(mr * mt, 0)
                 for n, In in zip(coef_n, cache[ti], strict=True):
                     k = (2 * int(n) - 1) * mpmath.pi / (2 * mL)
-                    total += (-1) ** int(n) * 2 * mr**2 * mk / (mL * mc * k**2) * In * mpmath.cos(k * ms)
+                    total += (
+                        (-1) ** int(n) * 2 * mr**2 * mk / (mL * mc * k**2) * In * mpmath.cos(k * ms)
+                    )
                 out[idx] = total
             return out
 
@@ -627,8 +718,16 @@ def instant_release_dalembert(s, t, *, kappa0: float, c: float, L: float):
     return kappa0 + _images(t, s, c, L, step, from_left=False)
 
 
-def smooth_release_dalembert(s, t, *, kappa0: float, c: float, L: float, rate: float = 50.0,
-                             f: Transition = DEFAULT_TRANSITION):
+def smooth_release_dalembert(
+    s,
+    t,
+    *,
+    kappa0: float,
+    c: float,
+    L: float,
+    rate: float = 50.0,
+    f: Transition = DEFAULT_TRANSITION,
+):
     """Closed form of eq (28): kappa0 + travelling copies of kappa0 (f(rate t) - 1)."""
     c, L = _positive_number("c", c), _positive_number("L", L)
     s, t = _grid(s, t, L)
@@ -679,17 +778,20 @@ class SmoothRelease:
     f: Transition = DEFAULT_TRANSITION
 
     def boundaries(self, system: System) -> tuple[Boundary, Boundary]:
-        right = Boundary.fields(system, ["k3"],
-                                lambda t: (self.kappa0 * self.f(self.rate * t))[:, None])
+        right = Boundary.fields(
+            system, ["k3"], lambda t: (self.kappa0 * self.f(self.rate * t))[:, None]
+        )
         return Boundary.fields(system, ["w3"]), right
 
     def exact(self, s, t, *, c, L, **kw):
-        return smooth_release_exact(s, t, kappa0=self.kappa0, c=c, L=L, rate=self.rate, f=self.f,
-                                    **kw)
+        return smooth_release_exact(
+            s, t, kappa0=self.kappa0, c=c, L=L, rate=self.rate, f=self.f, **kw
+        )
 
     def dalembert(self, s, t, *, c, L):
-        return smooth_release_dalembert(s, t, kappa0=self.kappa0, c=c, L=L, rate=self.rate,
-                                        f=self.f)
+        return smooth_release_dalembert(
+            s, t, kappa0=self.kappa0, c=c, L=L, rate=self.rate, f=self.f
+        )
 
 
 Problem = LinearLoading | InstantRelease | SmoothRelease
@@ -727,9 +829,18 @@ class WaveSolution:
         }
 
 
-def solve(problem: Problem, *, rod: Rod | None = None, n_cells: int, dt: float,
-          times: Sequence[float] | float, lam_t: float = -1.0, lam_s: float = -1.0,
-          quadrature: str = "trapezoidal", newton: Newton = Newton()) -> WaveSolution:
+def solve(
+    problem: Problem,
+    *,
+    rod: Rod | None = None,
+    n_cells: int,
+    dt: float,
+    times: Sequence[float] | float,
+    lam_t: float = -1.0,
+    lam_s: float = -1.0,
+    quadrature: str = "trapezoidal",
+    newton: Newton = Newton(),
+) -> WaveSolution:
     """Run a wave problem on the generalised-alpha engine with the 2-field model.
 
     ``times`` must be multiples of ``dt``; the run ends at the last of them.
@@ -750,10 +861,28 @@ def solve(problem: Problem, *, rod: Rod | None = None, n_cells: int, dt: float,
     y0 = np.zeros((n_cells + 1, 2))
     y0[:, 0] = problem.kappa0
     scheme = Scheme(lam_s=lam_s, lam_t=lam_t, quadrature=quadrature)
-    run = integrate(system, n_cells=int(n_cells), length=rod.L, dt=dt, t_end=float(times_arr.max()),
-                    y0=y0, left=left, right=right, scheme=scheme, y_t0="zero",
-                    snapshots=list(times_arr), newton=newton,
-                    meta={"problem": repr(problem), "rod": rod.as_dict()})
+    run = integrate(
+        system,
+        n_cells=int(n_cells),
+        length=rod.L,
+        dt=dt,
+        t_end=float(times_arr.max()),
+        y0=y0,
+        left=left,
+        right=right,
+        scheme=scheme,
+        y_t0="zero",
+        snapshots=list(times_arr),
+        newton=newton,
+        meta={"problem": repr(problem), "rod": rod.as_dict()},
+    )
     snaps = np.array([run.snapshot(ti) for ti in times_arr])
-    return WaveSolution(problem=problem, rod=rod, s=run.s, t=times_arr, kappa=snaps[:, :, 0],
-                        omega=snaps[:, :, 1], run=run)
+    return WaveSolution(
+        problem=problem,
+        rod=rod,
+        s=run.s,
+        t=times_arr,
+        kappa=snaps[:, :, 0],
+        omega=snaps[:, :, 1],
+        run=run,
+    )
