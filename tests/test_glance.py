@@ -14,8 +14,18 @@ def table():
 
 def test_published_values_have_sources():
     pub = glance.published()
-    assert {"m_cri", "kappa_cri", "c", "T1", "fig8_tc", "fig8_kappa3", "b", "sigma",
-            "law_fig8", "law_fig9"} <= set(pub)
+    assert {
+        "m_cri",
+        "kappa_cri",
+        "c",
+        "T1",
+        "fig8_tc",
+        "fig8_kappa3",
+        "b",
+        "sigma",
+        "law_fig8",
+        "law_fig9",
+    } <= set(pub)
     for entry in pub.values():
         assert entry["where"] and entry["unit"] and entry["digits"] >= 1
 
