@@ -25,7 +25,7 @@ $(VENV)/.docs-installed: pyproject.toml | $(PY)
 ## test: the fast test suite, then every notebook of the site at quick fidelity (what CI runs)
 test: $(VENV)/.test-installed
 	$(PY) -m pytest -m "not slow" -q
-	DYNTORSION_FIDELITY=quick $(PY) -m sphinx -q -W --keep-going -b html docs docs/_build/quick
+	DYNTORSION_FIDELITY=quick $(PY) -m sphinx -E -q -W --keep-going -b html docs docs/_build/quick
 
 ## test-all: every test, including the long `slow` ones
 test-all: $(VENV)/.test-installed
@@ -34,7 +34,7 @@ test-all: $(VENV)/.test-installed
 ## paper: recompute missing or stale data, regenerate every figure (paper/figures) and
 ## the at-a-glance numbers (paper/numbers.json), and build the documentation site
 paper: $(VENV)/.docs-installed data
-	$(PY) -m sphinx -W --keep-going -b html docs docs/_build/html
+	$(PY) -m sphinx -E -W --keep-going -b html docs docs/_build/html
 	@echo
 	@echo "Site built: open docs/_build/html/index.html"
 

@@ -317,7 +317,7 @@ def detect_onset(
     """Fit a straight line to the initial dramatic variation of u3(L, t), extrapolate
     to u3 = 0: t_c and kappa3 = kappa0 + a t_c.
 
-    Window rule (deterministic): U = |u3(L, t)|.  The rise starts when U first
+    Window rule (deterministic): ``U = |u3(L, t)|``.  The rise starts when U first
     exceeds ``u_ref`` (default L / T0, T0 = L^2 sqrt(rho A / B1) the bending time
     scale: 0.023 m/s for Table 1, far above the prebuckling level and far below
     the first peak); its peak U_peak is the running maximum of U at the first
@@ -325,7 +325,7 @@ def detect_onset(
     small torsional-wave ripples on the rise do not count as a peak).  The fit
     uses the samples from the first time U exceeds ``window[0] * U_peak`` to the
     first time it exceeds ``window[1] * U_peak``.  The same fit with each of
-    ``variations`` gives the method's uncertainty: the largest |t_c - t_c(variation)|.
+    ``variations`` gives the method's uncertainty: the largest ``|t_c - t_c(variation)|``.
     """
     t, u = np.asarray(run.t), np.asarray(run.u3_end)
     U = np.abs(u)

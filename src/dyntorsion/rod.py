@@ -20,18 +20,23 @@ def _check(name: str, value: float, ok: bool, allowed: str) -> None:
 class Rod:
     """A circular elastic rod (Table 1 of the paper by default).
 
-    Parameters
-    ----------
-    E : Young's modulus [Pa], > 0.
-    nu : Poisson's ratio [-], in (-1, 0.5].
-    D : diameter [m], > 0.
-    L : length [m], > 0.
-    rho : density [kg/m^3], > 0.
-
     Derived (Table 1 and eqs 6, 22, 31): ``G = E/(2(1+nu))``, ``A = pi D^2/4``,
     ``I1 = I2 = A D^2/16``, ``J = A D^2/8``, ``B1 = E I1``, ``B2 = E I2``, ``C = G J``,
     ``mass_per_length = rho A``, the torsional wave speed ``c = sqrt(G/rho)``
     and the period of the first torsional mode ``T1 = 4 L / c`` (section 7).
+
+    Parameters
+    ----------
+    E
+        Young's modulus [Pa], > 0.
+    nu
+        Poisson's ratio [-], in (-1, 0.5].
+    D
+        diameter [m], > 0.
+    L
+        length [m], > 0.
+    rho
+        density [kg/m^3], > 0.
     """
 
     E: float = 1.25e7

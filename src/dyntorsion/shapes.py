@@ -40,10 +40,11 @@ def hat(x: np.ndarray) -> np.ndarray:
 
 
 def rodrigues(x: np.ndarray) -> np.ndarray:
-    """exp(-hat(x)) = E - hat(n) sin|x| + hat(n)^2 (1 - cos|x|), n = x/|x| (eq 20).
+    """``exp(-hat(x)) = E - hat(n) sin|x| + hat(n)^2 (1 - cos|x|)``, ``n = x/|x|`` (eq 20).
 
-    Written as E - a hat(x) + b hat(x)^2 with a = sin|x|/|x|, b = (1 - cos|x|)/|x|^2,
-    whose Taylor series are used for |x| < 1e-4 so that x -> 0 is exact.
+    Written as ``E - a hat(x) + b hat(x)^2`` with ``a = sin|x|/|x|``,
+    ``b = (1 - cos|x|)/|x|^2``, whose Taylor series are used for ``|x| < 1e-4`` so
+    that ``x -> 0`` is exact.
     """
     x = np.asarray(x, dtype=float)
     th2 = np.sum(x * x, axis=-1)
