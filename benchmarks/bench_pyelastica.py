@@ -184,11 +184,17 @@ def ladder(name, runs):
             run = SimpleNamespace(
                 t=run.t[: bad[0]], u3_end=run.u3_end[: bad[0]], rod=run.rod, params=run.params
             )
-        try:
-            tc = b.detect_onset(run).t_c
-        except ValueError as err:
-            tc = float("nan")
-            print(f"  {name} {label}: no onset ({err})")
+        U = np.abs(run.u3_end)
+        i_peak = int(np.argmax(U)) if U.size else 0
+        if bad.size and not np.any(U[i_peak:] < 0.7 * U[i_peak]):
+            tc = float("nan")  # the largest |u3| is the blow-up itself, not a buckling peak
+            print(f"  {name} {label}: blew up before the first peak of |u3|: no onset")
+        else:
+            try:
+                tc = b.detect_onset(run).t_c
+            except ValueError as err:
+                tc = float("nan")
+                print(f"  {name} {label}: no onset ({err})")
         rows.append((label, tc, wall, steps))
     ref = [tc for _, tc, _, _ in rows if np.isfinite(tc)][-1]  # the finest with an onset
     print(f"{name}: converged (finest run with an onset) t_c = {ref:.4f} s")
