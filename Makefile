@@ -22,10 +22,10 @@ $(VENV)/.docs-installed: pyproject.toml | $(PY)
 	$(PY) -m pip install --quiet -e '.[test,docs]'
 	touch $@
 
-## test: the fast test suite, then every notebook of the site at quick fidelity (what CI runs)
+## test: every notebook of the site at quick fidelity, then the fast test suite (what CI runs)
 test: $(VENV)/.test-installed
-	$(PY) -m pytest -m "not slow" -q
 	DYNTORSION_FIDELITY=quick $(PY) -m sphinx -E -q -W --keep-going -b html docs docs/_build/quick
+	$(PY) -m pytest -m "not slow" -q
 
 ## test-all: every test, including the long `slow` ones
 test-all: $(VENV)/.test-installed
