@@ -136,3 +136,25 @@ def test_committed_sweep_is_grid_independent(seed):
     base = committed("fig10" if seed == "fig10-grid" else "fig10-tiny-seed").set_index("a")
     for _, row in committed(seed).iterrows():
         assert row["kappa3"] == pytest.approx(base.loc[row["a"], "kappa3"], rel=0.01)
+
+
+# ------------------------------------------------------------------ imperfection sensitivity
+def test_onset_is_later_the_smaller_the_seed_and_never_without_one():
+    scenes = S.preset("imperfection")
+    table = committed("imperfection")
+    store = S.Store(S.DATA)
+    for a in S.IMPERFECTION_RATES:
+        rows = [
+            (sc.seed.magnitude, k)
+            for sc, k in zip(scenes, table["kappa3"], strict=True)
+            if sc.a == a and sc.seed.form == "uniform" and sc.seed.magnitude > 0
+        ]
+        mags, kappas = np.array(rows).T
+        order = np.argsort(mags)
+        assert np.all(np.diff(kappas[order]) < 0)  # more seed, earlier onset
+    for sc in scenes:
+        if sc.seed.magnitude == 0:
+            res = store.load(S.KIND, sc.params(), on_stale="error")["result"]
+            assert res["t_c"] is None and "identically zero" in res["onset_error"]
+            assert res["u3_peak"] == 0.0
+            assert sc.kappa0 + sc.a * res["t_last"] > 2 * critical_twist(ROD)

@@ -350,6 +350,20 @@ def _fig08_seeds() -> list[Scene]:
     return [Scene(a=1.6, kappa0=0.0, seed=seed) for seed in FIG08_SEEDS]
 
 
+#: imperfection sensitivity ("Why is buckling delayed?"): three rates, uniform seeds
+#: 1e-12..1e-4 N/m, point seeds of 1e-8 N at three places, and no seed at all
+IMPERFECTION_RATES: tuple[float, ...] = (0.2, 1.6, 12.8)
+IMPERFECTION_SEEDS: tuple[Perturbation, ...] = (
+    *(Perturbation(10.0**k) for k in range(-12, -3)),
+    *(Perturbation(1e-8, "point", x) for x in (0.1, 0.5, 0.9)),
+    Perturbation(0.0),
+)
+
+
+def _imperfection() -> list[Scene]:
+    return [Scene(a=a, kappa0=10.0, seed=p) for a in IMPERFECTION_RATES for p in IMPERFECTION_SEEDS]
+
+
 def _newton(a: float, kappa0: float) -> list[Scene]:
     return [Scene(a=a, kappa0=kappa0, newton=Newton(tol=tol)) for tol in NEWTON_TOLS]
 
@@ -367,6 +381,7 @@ PRESETS: dict[str, Callable[[], list[Scene]]] = {
     "newton-fig08": lambda: _newton(1.6, 0.0),
     "newton-fast": lambda: _newton(16.0, 10.0),
     "fig08-seeds": _fig08_seeds,
+    "imperfection": _imperfection,
 }
 
 
