@@ -248,3 +248,22 @@ def test_python_m_entry_point():
         check=True,
     ).stdout
     assert out.startswith("dyntorsion ")
+
+
+def test_model_switches_name_the_scene_and_reach_the_model():
+    base = S.Scene(a=10.0, **COARSE)
+    assert "model" not in base.params()  # default scenes keep their cache keys
+    gyro = S.Scene(a=10.0, terms=(("gyro", 0.0),), **COARSE)
+    heavy = S.Scene(a=10.0, rotary_inertia_scale=10.0, **COARSE)
+    assert gyro.params()["model"] == {"terms": {"gyro": 0.0}}
+    assert heavy.params()["model"] == {"rotary_inertia_scale": 10.0}
+    assert len({R.key(S.KIND, sc.params()) for sc in (base, gyro, heavy)}) == 3
+    with pytest.raises(ValueError, match="terms"):
+        S.Scene(a=10.0, terms=(("spin", 0.0),))
+    with pytest.raises(ValueError, match="rotary_inertia_scale"):
+        S.Scene(a=10.0, rotary_inertia_scale=-1.0)
+    t_c = {
+        name: S.run_scene(sc)["t_c"]
+        for name, sc in (("base", base), ("gyro", gyro), ("heavy", heavy))
+    }
+    assert t_c["gyro"] != t_c["base"] and t_c["heavy"] != t_c["base"]

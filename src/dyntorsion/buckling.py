@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import math
 import warnings
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import asdict, dataclass, field
 from typing import Any
 
@@ -182,6 +182,8 @@ def simulate(
     check_every: int | None = None,
     progress: bool | None = None,
     on_failure: str = "raise",
+    terms: Mapping[str, float] | None = None,
+    rotary_inertia_scale: float = 1.0,
 ) -> BucklingRun:
     """Run the buckling scene of section 6.
 
@@ -201,6 +203,10 @@ def simulate(
     :class:`~dyntorsion.genalpha.ConvergenceError` (``on_failure="raise"``), or, with
     ``on_failure="return"``, ends the run at the last completed step with
     ``stopped = "failed: ..."`` (the traces up to it are what the onset needs).
+
+    ``terms`` and ``rotary_inertia_scale`` are passed to
+    :class:`~dyntorsion.model.Cosserat`: switch single mechanisms off (e.g.
+    ``{"gyro": 0.0}``) or scale the bending rotary inertia.
     """
     if on_failure not in ("raise", "return"):
         raise ValueError(f"on_failure={on_failure!r}; allowed: 'raise', 'return'")
@@ -210,7 +216,7 @@ def simulate(
             raise ValueError(f"{name}={value!r} must be finite")
     if not isinstance(perturbation, Perturbation):
         perturbation = Perturbation(magnitude=float(perturbation))
-    model = Cosserat(rod)
+    model = Cosserat(rod, terms=dict(terms or {}), rotary_inertia_scale=rotary_inertia_scale)
     system = model.system()
     if not isinstance(n_cells, int | np.integer) or n_cells < 2:
         raise ValueError(f"n_cells={n_cells!r} must be an integer >= 2")
@@ -278,6 +284,8 @@ def simulate(
         "perturbation": asdict(perturbation),
         "scheme": run.meta["scheme"],
         "check_every": check_every,
+        "terms": dict(terms or {}),
+        "rotary_inertia_scale": rotary_inertia_scale,
     }
     return BucklingRun(
         t=t,

@@ -28,6 +28,7 @@ import pandas as pd
 
 from .buckling import Perturbation, critical_twist, detect_onset, simulate
 from .genalpha import Newton, Scheme
+from .model import Cosserat
 from .results import Store, digest
 from .rod import Rod
 
@@ -82,6 +83,8 @@ class Scene:
     newton: Newton = field(default_factory=Newton)
     window: tuple[float, float] = (0.1, 0.5)
     variations: tuple[tuple[float, float], ...] = ((0.05, 0.3), (0.2, 0.7))
+    terms: tuple[tuple[str, float], ...] = ()
+    rotary_inertia_scale: float = 1.0
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.a) and self.a > 0):
@@ -98,6 +101,7 @@ class Scene:
         object.__setattr__(self, "kappa0", float(self.kappa0))
         object.__setattr__(self, "n_cells", int(self.n_cells))
         object.__setattr__(self, "dt", float(self.dt))
+        Cosserat(self.rod, terms=dict(self.terms), rotary_inertia_scale=self.rotary_inertia_scale)
         if self.t_end is not None and not (math.isfinite(self.t_end) and self.t_end > 0):
             raise ValueError(f"t_end={self.t_end!r} must be > 0 (or None for the horizon rule)")
         if self.duration() <= 0:
@@ -115,9 +119,16 @@ class Scene:
         return (kappa_end - self.kappa0) / self.a
 
     def params(self) -> dict[str, Any]:
-        """Everything the result depends on (the cache key)."""
+        """Everything the result depends on (the cache key).  Model switches appear
+        only when set, so the default scenes keep their keys."""
         r = self.rod
-        return {
+        model = {}
+        if self.terms:
+            model["terms"] = {k: float(v) for k, v in sorted(self.terms)}
+        if self.rotary_inertia_scale != 1.0:
+            model["rotary_inertia_scale"] = float(self.rotary_inertia_scale)
+        extra = {"model": model} if model else {}
+        return extra | {
             "rod": {"E": r.E, "nu": r.nu, "D": r.D, "L": r.L, "rho": r.rho},
             "a": self.a,
             "kappa0": self.kappa0,
@@ -137,6 +148,8 @@ class Scene:
         return (
             f"a={self.a:.4g} kappa0={self.kappa0:g} rho={self.rod.rho:g} "
             f"seed={self.seed.magnitude:g} N={self.n_cells} dt={self.dt:g}"
+            + "".join(f" {k}={v:g}" for k, v in self.terms)
+            + (f" rotary={self.rotary_inertia_scale:g}" if self.rotary_inertia_scale != 1 else "")
         )
 
 
@@ -154,6 +167,8 @@ def run_scene(scene: Scene) -> dict[str, Any]:
         newton=scene.newton,
         progress=False,
         on_failure="return",
+        terms=dict(scene.terms),
+        rotary_inertia_scale=scene.rotary_inertia_scale,
     )
     out: dict[str, Any] = {
         "stopped": run.stopped,
@@ -364,6 +379,19 @@ def _imperfection() -> list[Scene]:
     return [Scene(a=a, kappa0=10.0, seed=p) for a in IMPERFECTION_RATES for p in IMPERFECTION_SEEDS]
 
 
+#: mechanisms ("Why is buckling delayed?"): the gyroscopic term off, the bending rotary
+#: inertia scaled by 0.1 and 10 (torsional wave speed unchanged), at the three rates
+MECHANISMS: dict[str, dict[str, Any]] = {
+    "gyroscopic term off": {"terms": (("gyro", 0.0),)},
+    "rotary inertia x 0.1": {"rotary_inertia_scale": 0.1},
+    "rotary inertia x 10": {"rotary_inertia_scale": 10.0},
+}
+
+
+def _mechanisms() -> list[Scene]:
+    return [Scene(a=a, kappa0=10.0, **kw) for a in IMPERFECTION_RATES for kw in MECHANISMS.values()]
+
+
 def _newton(a: float, kappa0: float) -> list[Scene]:
     return [Scene(a=a, kappa0=kappa0, newton=Newton(tol=tol)) for tol in NEWTON_TOLS]
 
@@ -382,6 +410,7 @@ PRESETS: dict[str, Callable[[], list[Scene]]] = {
     "newton-fast": lambda: _newton(16.0, 10.0),
     "fig08-seeds": _fig08_seeds,
     "imperfection": _imperfection,
+    "mechanisms": _mechanisms,
 }
 
 
