@@ -380,11 +380,14 @@ def _imperfection() -> list[Scene]:
 
 
 #: mechanisms ("Why is buckling delayed?"): the gyroscopic term off, the bending rotary
-#: inertia scaled by 0.1 and 10 (torsional wave speed unchanged), at the three rates
+#: inertia scaled by 0.1 and 10 (torsional wave speed unchanged), and the rotating-frame
+#: transport term rho A (w x u) off (not a physical model: a probe of the spin coupling of
+#: the lateral motion), at the three rates
 MECHANISMS: dict[str, dict[str, Any]] = {
     "gyroscopic term off": {"terms": (("gyro", 0.0),)},
     "rotary inertia x 0.1": {"rotary_inertia_scale": 0.1},
     "rotary inertia x 10": {"rotary_inertia_scale": 10.0},
+    "rotating-frame transport off": {"terms": (("wxu", 0.0),)},
 }
 
 
