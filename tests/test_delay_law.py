@@ -76,7 +76,7 @@ def test_fit_rejects_bad_input(kw, msg):
 # ------------------------------------------------------------------ the committed sweep
 def committed(name):
     """A preset read from data/scenes: missing or stale records fail with `make data`."""
-    return S.run_sweep(S.preset(name), compute=False, on_stale="error", progress=False)
+    return S.cached(name)
 
 
 @pytest.fixture(scope="module", params=["fig10", "fig10-tiny-seed"])

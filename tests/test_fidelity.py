@@ -70,7 +70,7 @@ LIMITS = {"quick": 0.01, "standard": 0.005, "paper": 0.001}
 def test_buckling_presets_meet_their_accuracy(ladder):
     """t_c of each preset against the finest grid of the committed ladder (N = 400,
     dt = 0.00125): quick within 1 %, standard within 0.5 %, paper within 0.1 %."""
-    table = S.run_sweep(S.preset(ladder), compute=False, on_stale="error", progress=False)
+    table = S.cached(ladder)
     ref = table[(table.n_cells == 400) & (table.dt == 0.00125)]["t_c"].iloc[0]
     for name, limit in LIMITS.items():
         f = fidelity.get("buckling", name)

@@ -16,6 +16,7 @@ from dyntorsion.buckling import Perturbation, critical_twist
 from dyntorsion.cli import main
 
 COARSE = {"kappa0": 10.0, "n_cells": 40, "dt": 0.01}
+COARSE_CLI = ["--kappa0", "10", "--n-cells", "40", "--dt", "0.01"]  # the same, for the CLI
 RATES = (10.0, 4.0)
 
 
@@ -173,12 +174,7 @@ def test_killed_sweep_resumes_to_the_same_table(serial, tmp_path):
         "sweep",
         "--rates",
         ",".join(map(str, rates)),
-        "--kappa0",
-        "10",
-        "--n-cells",
-        "40",
-        "--dt",
-        "0.01",
+        *COARSE_CLI,
         "--store",
         str(tmp_path),
         "--quiet",
@@ -205,7 +201,7 @@ def test_killed_sweep_resumes_to_the_same_table(serial, tmp_path):
 # ------------------------------------------------------------------ command line
 def test_cli_buckle_prints_the_onset(serial, capsys):
     _, table = serial
-    assert main(["buckle", "--a", "10", "--kappa0", "10", "--n-cells", "40", "--dt", "0.01"]) == 0
+    assert main(["buckle", "--a", "10", *COARSE_CLI]) == 0
     out = capsys.readouterr().out
     assert f"{table['kappa3'][0]:.4f}" in out and "t_c" in out
 
@@ -218,12 +214,7 @@ def test_cli_sweep_reads_the_cache(serial, capsys):
                 "sweep",
                 "--rates",
                 "10,4",
-                "--kappa0",
-                "10",
-                "--n-cells",
-                "40",
-                "--dt",
-                "0.01",
+                *COARSE_CLI,
                 "--store",
                 str(store.root),
                 "--quiet",

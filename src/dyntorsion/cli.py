@@ -16,7 +16,7 @@ from .buckling import Perturbation, critical_twist, fit_power_law
 from .fidelity import LEVELS
 from .results import ON_STALE
 from .rod import Rod
-from .sweep import DATA, PRESETS, Scene, run_scene, run_sweep
+from .sweep import DATA, PRESETS, Scene, cached, run_scene, run_sweep
 
 
 def _scene_options(p: argparse.ArgumentParser, kappa0: float) -> None:
@@ -180,9 +180,7 @@ def _sweep(args: argparse.Namespace) -> int:
 
 
 def _fit(args: argparse.Namespace) -> int:
-    table = run_sweep(
-        PRESETS[args.preset](), args.store, on_stale="error", compute=False, progress=False
-    )
+    table = cached(args.preset, args.store)
     _print_fit(table)
     return 0
 

@@ -12,7 +12,6 @@ from __future__ import annotations
 import json
 import math
 import os
-import tempfile
 from pathlib import Path
 from typing import Any
 
@@ -20,8 +19,9 @@ import pandas as pd
 
 from . import __version__
 from .buckling import critical_twist, fit_power_law, m_cri
+from .results import write_json
 from .rod import Rod
-from .sweep import preset, run_sweep
+from .sweep import cached
 
 __all__ = ["PAPER", "published", "ours", "table", "write_numbers"]
 
@@ -34,16 +34,12 @@ def published(path: str | os.PathLike[str] | None = None) -> dict[str, dict[str,
     return {v["id"]: v for v in data["values"]}
 
 
-def _read(name: str) -> pd.DataFrame:
-    return run_sweep(preset(name), compute=False, on_stale="error", progress=False)
-
-
 def ours() -> dict[str, list[tuple[str, float, str]]]:
     """Our value(s) for each published id: (label, value, where it comes from)."""
     rod = Rod.paper()
-    direct = _read("fig08-09").set_index("rho")
-    direct_tiny = _read("fig08-09-tiny-seed").set_index("rho")
-    sweeps = {"stated seed 1e-8 N/m": _read("fig10"), "seed 1e-17 N/m": _read("fig10-tiny-seed")}
+    direct = cached("fig08-09").set_index("rho")
+    direct_tiny = cached("fig08-09-tiny-seed").set_index("rho")
+    sweeps = {"stated seed 1e-8 N/m": cached("fig10"), "seed 1e-17 N/m": cached("fig10-tiny-seed")}
     fits = {k: fit_power_law(t["a"], t["kappa3"], rod, n_boot=0) for k, t in sweeps.items()}
     free = {
         k: fit_power_law(t["a"], t["kappa3"], rod, kappa_cri=None, n_boot=0)
@@ -113,12 +109,5 @@ def table() -> pd.DataFrame:
 
 def write_numbers(path: str | os.PathLike[str] | None = None) -> Path:
     """Write :func:`table` to ``paper/numbers.json`` (atomically)."""
-    target = Path(path or PAPER / "numbers.json")
-    target.parent.mkdir(parents=True, exist_ok=True)
     payload = {"package_version": __version__, "rows": table().to_dict(orient="records")}
-    fd, tmp = tempfile.mkstemp(dir=target.parent, suffix=".tmp")
-    with os.fdopen(fd, "w") as fh:
-        json.dump(payload, fh, indent=1)
-        fh.write("\n")
-    os.replace(tmp, target)
-    return target
+    return write_json(path or PAPER / "numbers.json", payload)

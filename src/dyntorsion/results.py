@@ -152,6 +152,27 @@ def provenance(wall_time: float | None = None) -> dict[str, Any]:
     }
 
 
+def write_json(path: str | os.PathLike[str], obj: Any) -> Path:
+    """Write ``obj`` as JSON atomically: a temporary file in the same folder, flushed
+    to disk, then renamed over ``path``; on any failure the temporary is removed and
+    ``path`` is untouched."""
+    target = Path(path)
+    target.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=target.parent, prefix=f".{target.stem}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "w") as fh:
+            json.dump(obj, fh, indent=1, sort_keys=True, allow_nan=False)
+            fh.write("\n")
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.chmod(tmp, 0o644)
+        os.replace(tmp, target)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+    return target
+
+
 # ----------------------------------------------------------------- the store
 @dataclass(frozen=True)
 class Store:
@@ -182,20 +203,8 @@ class Store:
             "provenance": provenance(wall_time),
         }
         record["hash"] = digest({"kind": kind, "params": params, "result": result})
-        self.root.mkdir(parents=True, exist_ok=True)
         target = self.path(kind, params)
-        fd, tmp = tempfile.mkstemp(dir=self.root, prefix=f".{target.stem}.", suffix=".tmp")
-        try:
-            with os.fdopen(fd, "w") as fh:
-                json.dump(record, fh, indent=1, sort_keys=True, allow_nan=False)
-                fh.write("\n")
-                fh.flush()
-                os.fsync(fh.fileno())
-            os.chmod(tmp, 0o644)
-            os.replace(tmp, target)
-        except BaseException:
-            Path(tmp).unlink(missing_ok=True)
-            raise
+        write_json(target, record)
         return target
 
     def read(self, path: str | os.PathLike[str]) -> dict[str, Any]:

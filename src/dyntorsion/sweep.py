@@ -43,6 +43,7 @@ __all__ = [
     "SEEDS",
     "PRESETS",
     "preset",
+    "cached",
     "paper_law",
 ]
 
@@ -415,6 +416,13 @@ PRESETS: dict[str, Callable[[], list[Scene]]] = {
     "imperfection": _imperfection,
     "mechanisms": _mechanisms,
 }
+
+
+def cached(name: str, store: Store | str | Path | None = None) -> pd.DataFrame:
+    """The table of a named preset read from ``store`` (default :data:`DATA`), computing
+    nothing: a missing scene raises :class:`MissingResultError`, a stale one
+    :class:`~dyntorsion.results.StaleResultError`, each asking for ``make data``."""
+    return run_sweep(preset(name), store, compute=False, on_stale="error", progress=False)
 
 
 def preset(name: str) -> list[Scene]:
