@@ -314,6 +314,8 @@ class Onset:
     intercept: float
     window: tuple[float, float]
     variations: dict[tuple[float, float], float]
+    t_ref: float = math.nan
+    u_ref: float = math.nan
 
 
 def detect_onset(
@@ -334,6 +336,11 @@ def detect_onset(
     uses the samples from the first time U exceeds ``window[0] * U_peak`` to the
     first time it exceeds ``window[1] * U_peak``.  The same fit with each of
     ``variations`` gives the method's uncertainty: the largest ``|t_c - t_c(variation)|``.
+
+    ``t_ref`` is the time at which U first reaches ``u_ref`` (linear interpolation
+    between samples): the level a linear theory can be compared with (see
+    :mod:`dyntorsion.linear_stability`), where ``t_c`` is an extrapolation from the
+    nonlinear rise.
     """
     t, u = np.asarray(run.t), np.asarray(run.u3_end)
     U = np.abs(u)
@@ -348,6 +355,11 @@ def detect_onset(
             "before buckling; increase t_end"
         )
     i_start = int(above[0])
+    if i_start == 0:
+        t_ref = float(t[0])
+    else:
+        u0, u1 = U[i_start - 1], U[i_start]
+        t_ref = float(t[i_start - 1] + (u_ref - u0) / (u1 - u0) * (t[i_start] - t[i_start - 1]))
     running = np.maximum.accumulate(U[i_start:])
     drop = np.nonzero(U[i_start:] < 0.7 * running)[0]
     end = i_start + (int(drop[0]) if drop.size else U.size - i_start)
@@ -380,6 +392,8 @@ def detect_onset(
         intercept=float(intercept),
         window=tuple(window),
         variations={k: float(v) for k, v in var.items()},
+        t_ref=t_ref,
+        u_ref=float(u_ref),
     )
 
 

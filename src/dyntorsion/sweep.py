@@ -181,7 +181,12 @@ def run_scene(scene: Scene) -> dict[str, Any]:
         onset = detect_onset(run, window=scene.window, variations=scene.variations)
     except ValueError as err:
         out.update(
-            onset_error=str(err), t_c=None, kappa3=None, uncertainty_t=None, uncertainty_kappa3=None
+            onset_error=str(err),
+            t_c=None,
+            kappa3=None,
+            uncertainty_t=None,
+            uncertainty_kappa3=None,
+            t_ref=None,
         )
         return out
     out.update(
@@ -192,6 +197,8 @@ def run_scene(scene: Scene) -> dict[str, Any]:
         uncertainty_kappa3=onset.uncertainty_kappa3,
         slope=onset.slope,
         intercept=onset.intercept,
+        t_ref=onset.t_ref,
+        u_ref=onset.u_ref,
     )
     return out
 
@@ -219,6 +226,7 @@ def _row(scene: Scene, record: dict[str, Any], cached: bool) -> dict[str, Any]:
         "dt": scene.dt,
         "t_c": res["t_c"],
         "kappa3": res["kappa3"],
+        "t_ref": res.get("t_ref"),
         "uncertainty_t": res["uncertainty_t"],
         "uncertainty_kappa3": res["uncertainty_kappa3"],
         "stopped": res["stopped"],
