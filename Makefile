@@ -41,13 +41,15 @@ paper: $(VENV)/.docs-installed data
 docs: paper
 
 ## data: recompute the cached scenes in data/scenes (Fig 10 sweeps, direct Fig 8/9 runs,
-## grid check); scenes already cached and current are kept.  JOBS local processes.
+## grid check; linear-stability predictions); scenes already cached and current are kept.  JOBS local processes.
 JOBS ?= 2
 DATA_PRESETS := fig10 fig10-tiny-seed fig08-09 fig08-09-tiny-seed fig10-grid fig10-grid-tiny-seed \
                 accuracy-fig08 accuracy-fast newton-fig08 newton-fast fig08-seeds imperfection \
                 mechanisms
+LINEAR_PRESETS := linear-fig10 linear-fig10-tiny-seed linear-imperfection linear-variants
 data: $(VENV)/.test-installed
 	$(BIN)/dyntorsion sweep $(foreach p,$(DATA_PRESETS),--preset $(p)) --jobs $(JOBS)
+	$(BIN)/dyntorsion linear $(foreach p,$(LINEAR_PRESETS),--preset $(p)) --jobs $(JOBS)
 
 ## lint: ruff check and ruff format --check (CI runs it beside the tests)
 LINTED := src tests benchmarks docs/conf.py

@@ -1,4 +1,4 @@
-"""The command line: ``dyntorsion buckle``, ``dyntorsion sweep``, ``dyntorsion fit``.
+"""The command line: ``dyntorsion buckle``, ``sweep``, ``linear``, ``fit``.
 
 ``python -m dyntorsion ...`` is the same program.
 """
@@ -179,10 +179,42 @@ def _sweep(args: argparse.Namespace) -> int:
     return 0
 
 
+def _linear(args: argparse.Namespace) -> int:
+    from . import linear_stability as LS
+
+    preds = [p for name in args.preset for p in LS.preset(name)]
+    table = LS.predict(
+        preds,
+        args.store,
+        jobs=args.jobs,
+        on_stale=args.on_stale,
+        log=None if args.quiet else _log,
+    )
+    cols = [
+        "a",
+        "kappa0",
+        "seed",
+        "waves",
+        "spin",
+        "rotary_inertia",
+        "modes",
+        "t_ref",
+        "kappa3_ref",
+    ]
+    print(table[cols].to_string(index=False, float_format=lambda v: f"{v:.5g}"))
+    return 0
+
+
 def _fit(args: argparse.Namespace) -> int:
     table = cached(args.preset, args.store)
     _print_fit(table)
     return 0
+
+
+def _linear_presets() -> list[str]:
+    from .linear_stability import PRESETS as LINEAR
+
+    return list(LINEAR)
 
 
 def parser() -> argparse.ArgumentParser:
@@ -223,6 +255,23 @@ def parser() -> argparse.ArgumentParser:
     s.add_argument("--on-stale", choices=ON_STALE, default="recompute")
     s.add_argument("--quiet", action="store_true", help="no progress bar or log")
     s.set_defaults(func=_sweep)
+
+    lin = sub.add_parser(
+        "linear",
+        help="linear-stability predictions of the onset (dyntorsion.linear_stability; cached)",
+    )
+    lin.add_argument(
+        "--preset",
+        action="append",
+        required=True,
+        choices=sorted(_linear_presets()),
+        help="a named set of predictions (repeatable)",
+    )
+    lin.add_argument("--store", default=str(DATA), help="cache folder (default: data/scenes)")
+    lin.add_argument("--jobs", type=int, default=1, help="local worker processes")
+    lin.add_argument("--on-stale", choices=ON_STALE, default="recompute")
+    lin.add_argument("--quiet", action="store_true", help="no log")
+    lin.set_defaults(func=_linear)
 
     f = sub.add_parser("fit", help="fit eq (33) to a cached preset sweep")
     f.add_argument("--preset", choices=sorted(PRESETS), default="fig10")

@@ -58,6 +58,19 @@ FINGERPRINTED: tuple[str, ...] = (
     "dyntorsion.sweep:run_scene",
 )
 
+_LINEAR = (
+    "dyntorsion.rod",
+    "dyntorsion.buckling:Perturbation",
+    "dyntorsion.buckling:critical_twist",
+    "dyntorsion.linear_stability",
+)
+
+#: the code behind records of other kinds (default: FINGERPRINTED)
+KIND_CODE: dict[str, tuple[str, ...]] = {
+    "linear-onset": _LINEAR,
+    "onset-trace": FINGERPRINTED + _LINEAR[3:] + ("dyntorsion.traces",),
+}
+
 ON_STALE = ("recompute", "error", "accept")
 
 
@@ -135,7 +148,12 @@ def key(kind: str, params: Mapping[str, Any]) -> str:
     return digest({"kind": kind, "params": params})[:20]
 
 
-def provenance(wall_time: float | None = None) -> dict[str, Any]:
+def code_of(kind: str | None) -> str:
+    """The code fingerprint that records of ``kind`` carry (see :data:`KIND_CODE`)."""
+    return code_fingerprint(KIND_CODE.get(kind, FINGERPRINTED))
+
+
+def provenance(wall_time: float | None = None, kind: str | None = None) -> dict[str, Any]:
     import numba
     import numpy
 
@@ -143,7 +161,7 @@ def provenance(wall_time: float | None = None) -> dict[str, Any]:
 
     return {
         "package_version": __version__,
-        "code": code_fingerprint(),
+        "code": code_of(kind),
         "python": platform.python_version(),
         "numpy": numpy.__version__,
         "numba": numba.__version__,
@@ -200,7 +218,7 @@ class Store:
             "key": key(kind, params),
             "params": _plain(params),
             "result": _plain(result),
-            "provenance": provenance(wall_time),
+            "provenance": provenance(wall_time, kind),
         }
         record["hash"] = digest({"kind": kind, "params": params, "result": result})
         target = self.path(kind, params)
@@ -232,9 +250,10 @@ class Store:
             reasons.append(f"record schema {record.get('schema')} != {SCHEMA}")
         if prov.get("package_version") != __version__:
             reasons.append(f"package version {prov.get('package_version')} != {__version__}")
-        if prov.get("code") != code_fingerprint():
+        code = code_of(record.get("kind"))
+        if prov.get("code") != code:
             reasons.append(
-                f"code fingerprint {prov.get('code')} != {code_fingerprint()} "
+                f"code fingerprint {prov.get('code')} != {code} "
                 "(the numerical code changed since it was computed)"
             )
         return "; ".join(reasons) or None

@@ -1,0 +1,672 @@
+"""Linear stability of the straight, twisted, spinning rod (beyond the paper).
+
+Why does the rod of section 6 buckle late?  Linearise eq (6) about the
+prebuckling state of section 5 -- straight, with the twist kappa3(s, t) and the
+spin omega3(s, t) -- for the lateral displacement of the centreline,
+w = x + i y (lab frame, complex).  The model of :mod:`dyntorsion.model` is
+inextensible and unshearable, so its linearisation is the Kirchhoff one: with
+the bending stiffness B = E I1 (isotropic), the twisting moment M = C kappa3,
+the rotary inertias rho I (bending) and rho J (spin), no axial force (n3 = 0 at
+s = L) and the seed f (lateral force per length, complex)
+
+    rho A w_tt - rho I w_tt'' + i rho J (omega3 w_t' + omega3_t w')'
+        + B w'''' - i (M w')''  =  f                                   (L1)
+
+(' = d/ds) with w = w' = 0 at s = 0 and s = L (eq 30 in the lateral
+directions).  For a uniform, frozen twist and no spin, w = W exp(lambda t) and
+lambda^2 changes sign at the static critical twist of eq (32): the static limit
+of (L1) is the equation of :func:`~dyntorsion.buckling.critical_twist_numerical`.
+
+Galerkin discretisation: w = sum_j q_j(t) phi_j(s) over the first ``modes``
+clamped-clamped beam modes phi_j (real, closed form), and (L1)
+multiplied by phi_i and integrated by parts:
+
+    Mr q'' + G(t) q' + (Kb + K_M(t) + K_w(t)) q = F(t)                 (L2)
+
+    Mr_ij  = int rho A phi_i phi_j + rho I phi_i' phi_j'
+    Kb_ij  = int B phi_i'' phi_j''
+    K_M_ij = -i int M phi_i'' phi_j'
+    G_ij   = -i rho J int omega3 phi_i' phi_j'
+    K_w_ij = -i rho J int omega3_t phi_i' phi_j'
+    F_i    = int phi_i f
+
+The prebuckling state (:class:`Prebuckling`) is that of the buckling scene:
+kappa3(0, t) = kappa0 + a t, omega3(L, t) = 0, at rest with kappa3 = kappa0 at
+t = 0.  ``waves=True`` takes the exact solution of section 5 (eq 23, a uniform
+ramp plus the free torsional oscillation the start of the loading leaves behind);
+``waves=False`` the quasi-static twist kappa3 = kappa0 + a t through the whole rod
+(with the spin that compatibility requires, omega3 = -a (L - s), unless ``spin``
+is off).  The seed of :class:`~dyntorsion.buckling.Perturbation` acts in the body
+frame, so in the lab frame it turns with the cross-section:
+f = magnitude (e1 + i e2) exp(i theta(s, t)), theta the angle of d1 (d1(L) = e1).
+
+:meth:`LateralModel.passage` integrates (L2) from rest and returns the time at
+which the end-shortening speed |u3(L, t)| = |d/dt int |w'|^2 / 2 ds| first reaches
+the onset detector's level u_ref (:func:`~dyntorsion.buckling.detect_onset`): a
+prediction of the buckling time with no fitted parameter.
+"""
+
+from __future__ import annotations
+
+import concurrent.futures as cf
+import math
+import multiprocessing
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from functools import lru_cache
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+import scipy.linalg
+import scipy.optimize
+
+from .buckling import Perturbation, critical_twist
+from .results import Store
+from .rod import Rod
+from .sweep import DATA, IMPERFECTION_RATES, MissingResultError, Scene
+from .sweep import preset as sweep_preset_scenes
+
+__all__ = [
+    "Prebuckling",
+    "LateralModel",
+    "Passage",
+    "Prediction",
+    "run_prediction",
+    "predict",
+    "VARIANTS",
+    "PRESETS",
+    "preset",
+    "cached",
+]
+
+
+def _beta(j: int) -> float:
+    """The j-th root (j >= 1) of cos(beta) cosh(beta) = 1, written as cos = sech."""
+    mid = (j + 0.5) * np.pi
+    return float(
+        scipy.optimize.brentq(
+            lambda b: np.cos(b) - 1.0 / np.cosh(b), mid - 0.5, mid + 0.5, xtol=1e-15, rtol=1e-15
+        )
+    )
+
+
+@lru_cache(maxsize=8)
+def _beam_modes(modes: int, quadrature: int) -> tuple[np.ndarray, ...]:
+    """The first ``modes`` clamped-clamped beam modes on [0, 1] at the ``quadrature``
+    Gauss-Legendre points: (x, weights, phi, d phi/dx, d2 phi/dx2, beta) with
+    phi'''' = beta^4 phi and int phi^2 = 1.
+
+    phi = cosh bx - cos bx - sigma (sinh bx - sin bx), sigma = (cosh b - cos b) /
+    (sinh b - sin b), evaluated as (1 + sigma)/2 e^{-bx} + (1 - sigma)/2 e^{bx}
+    - cos bx + sigma sin bx with 1 - sigma in a form that does not cancel.
+    """
+    g, gw = np.polynomial.legendre.leggauss(quadrature)
+    x, w = (g + 1.0) / 2.0, gw / 2.0
+    phi, d1, d2 = (np.empty((x.size, modes)) for _ in range(3))
+    betas = np.array([_beta(j) for j in range(1, modes + 1)])
+    for j, b in enumerate(betas):
+        e = math.exp(-b)
+        # (1 - sigma) / 2 = e^{-b} r, so (1 - sigma)/2 e^{bx} = r e^{b(x - 1)}
+        r = (-e - math.sin(b) + math.cos(b)) / (1.0 - e * e - 2.0 * math.sin(b) * e)
+        sigma = 1.0 - 2.0 * e * r
+        lo = (1.0 + sigma) / 2.0 * np.exp(-b * x)
+        hi = r * np.exp(b * (x - 1.0))
+        c, s = np.cos(b * x), np.sin(b * x)
+        phi[:, j] = lo + hi - c + sigma * s
+        d1[:, j] = b * (-lo + hi + s + sigma * c)
+        d2[:, j] = b * b * (lo + hi + c - sigma * s)
+    norm = np.sqrt(w @ phi**2)
+    return x, w, phi / norm, d1 / norm, d2 / norm, betas
+
+
+# ======================================================================= the base state
+@dataclass(frozen=True)
+class Prebuckling:
+    """The straight rod's twist, spin and twist angle in the buckling scene (section 5).
+
+    kappa3(0, t) = kappa0 + a t, omega3(L, t) = 0, at rest with kappa3 = kappa0 at
+    t = 0 (eq 23).  The solution is the quasi-static ramp kappa0 + a t,
+    omega3 = -a (L - s) plus (``waves=True``) the free oscillation left by the
+    mismatch of the initial and boundary rates: with k_n = (2n - 1) pi / (2L) and
+    b_n = -2 a / (L c k_n^2),
+
+        kappa3 += sum b_n sin(k_n s) sin(k_n c t),
+        omega3 += -c sum b_n cos(k_n s) cos(k_n c t),
+
+    the first ``terms`` terms (the series of eq 25).  ``spin=False`` drops omega3
+    (and its rate) altogether: the twist imposed through the whole rod without
+    the rotation that carries it, a contrast, not a motion of a real rod.
+    """
+
+    rod: Rod
+    a: float
+    kappa0: float = 10.0
+    waves: bool = True
+    spin: bool = True
+    terms: int = 400
+
+    def __post_init__(self) -> None:
+        if not (math.isfinite(self.a) and self.a > 0):
+            raise ValueError(f"a={self.a!r} must be finite and > 0 (the loading rate, rad/(m s))")
+        if not math.isfinite(self.kappa0):
+            raise ValueError(f"kappa0={self.kappa0!r} must be finite")
+        if not (isinstance(self.terms, int) and self.terms >= 1):
+            raise ValueError(f"terms={self.terms!r} must be an integer >= 1")
+
+    @property
+    def _k(self) -> np.ndarray:
+        return (2 * np.arange(1, self.terms + 1) - 1) * np.pi / (2 * self.rod.L)
+
+    def __call__(self, s: np.ndarray, t: float) -> tuple[np.ndarray, ...]:
+        """(kappa3, omega3, omega3_t, theta) at the points s and the time t."""
+        return self.at(s)(t)
+
+    def at(self, s: np.ndarray):
+        """A function t -> (kappa3, omega3, omega3_t, theta) at the fixed points s (the
+        spatial factors of the series are computed once)."""
+        L, a, c, kappa0 = self.rod.L, self.a, self.rod.c, self.kappa0
+        s = np.asarray(s, dtype=float)
+        zero = np.zeros_like(s)
+        k = self._k
+        b = -2 * a / (L * c * k**2)
+        if self.waves:
+            sin_s, cos_s = np.sin(np.outer(s, k)), np.cos(np.outer(s, k))
+
+        def state(t: float) -> tuple[np.ndarray, ...]:
+            kappa = np.full_like(s, kappa0 + a * t)
+            omega = -a * (L - s)
+            omega_t = zero
+            theta = -(kappa0 + a * t) * (L - s)
+            if self.waves:
+                sin_t, cos_t = np.sin(k * c * t), np.cos(k * c * t)
+                kappa = kappa + sin_s @ (b * sin_t)
+                omega = omega - c * cos_s @ (b * cos_t)
+                omega_t = c**2 * cos_s @ (b * k * sin_t)
+                theta = theta - cos_s @ (b / k * sin_t)
+            if not self.spin:
+                omega, omega_t = zero, zero
+            return kappa, omega, omega_t, theta
+
+        return state
+
+
+# ======================================================================= the lateral model
+@dataclass
+class Passage:
+    """A linear run through the instability: traces and the predicted onset."""
+
+    t: np.ndarray
+    u3: np.ndarray
+    kappa3: np.ndarray
+    amplitude: np.ndarray
+    t_ref: float
+    kappa3_ref: float
+    u_ref: float
+    params: dict = field(default_factory=dict)
+
+    @property
+    def reached(self) -> bool:
+        """Whether |u3(L)| reached u_ref before the end of the run."""
+        return math.isfinite(self.t_ref)
+
+
+@dataclass(frozen=True)
+class LateralModel:
+    """Eq (L2) of the module docstring: the Galerkin model of (L1).
+
+    ``modes`` clamped-clamped beam modes, integrals by Gauss-Legendre quadrature on
+    ``quadrature`` points.  ``rotary_inertia=False`` drops rho I; ``gyro=False``
+    drops both spin terms (rho J omega3).
+    """
+
+    rod: Rod = field(default_factory=Rod)
+    modes: int = 16
+    quadrature: int = 128
+    rotary_inertia: bool = True
+    gyro: bool = True
+
+    def __post_init__(self) -> None:
+        if not (isinstance(self.modes, int) and 1 <= self.modes <= 60):
+            raise ValueError(f"modes={self.modes!r} must be an integer in [1, 60]")
+        if not (isinstance(self.quadrature, int) and self.quadrature >= 4 * self.modes + 16):
+            raise ValueError(
+                f"quadrature={self.quadrature!r} must be an integer >= 4 modes + 16 = "
+                f"{4 * self.modes + 16}"
+            )
+        L = self.rod.L
+        x, w, phi, dphi, ddphi, _ = _beam_modes(self.modes, self.quadrature)
+        sc = {
+            "s": x * L,
+            "w": w * L,
+            "phi": phi / math.sqrt(L),
+            "dphi": dphi / L**1.5,
+            "ddphi": ddphi / L**2.5,
+        }
+        for k, v in sc.items():
+            object.__setattr__(self, "_" + k, v)
+        r = self.rod
+        rhoI = r.rho * r.I1 if self.rotary_inertia else 0.0
+        object.__setattr__(self, "_rhoJ", r.rho * r.J if self.gyro else 0.0)
+        M = r.mass_per_length * self._int(self._phi, self._phi)
+        M = M + rhoI * self._int(self._dphi, self._dphi)
+        object.__setattr__(self, "_M", M)
+        object.__setattr__(self, "_Kb", r.B1 * self._int(self._ddphi, self._ddphi))
+        object.__setattr__(self, "_P", self._int(self._dphi, self._dphi))
+
+    def _int(self, f, g, weight=None) -> np.ndarray:
+        """int f_i g_j (times weight) ds over the rod, as a matrix."""
+        w = self._w if weight is None else self._w * weight
+        return f.T @ (w[:, None] * g)
+
+    # -------------------------------------------------------------- frozen coefficients
+    def stiffness(self, kappa3, omega3_t=0.0) -> np.ndarray:
+        """Kb + K_M + K_w (complex, m x m) for a twist kappa3 (scalar or at the nodes)."""
+        M = self.rod.C * np.broadcast_to(np.asarray(kappa3, dtype=float), self._s.shape)
+        K = self._Kb - 1j * self._int(self._ddphi, self._dphi, M)
+        if self._rhoJ and np.any(omega3_t):
+            K = K - 1j * self._rhoJ * self._int(
+                self._dphi, self._dphi, np.broadcast_to(omega3_t, self._s.shape)
+            )
+        return K
+
+    def gyroscopic(self, omega3) -> np.ndarray:
+        """G (complex, skew-Hermitian) for the spin omega3 (scalar or at the nodes)."""
+        if not self._rhoJ:
+            return np.zeros_like(self._M, dtype=complex)
+        return (
+            -1j
+            * self._rhoJ
+            * self._int(self._dphi, self._dphi, np.broadcast_to(omega3, self._s.shape))
+        )
+
+    def spectrum(self, kappa3: float, spin_rate: float = 0.0) -> np.ndarray:
+        """The exponents lambda of w = W exp(lambda t) for the frozen twist kappa3 and the
+        quasi-static spin omega3 = -spin_rate (L - s), sorted by real part (largest first)."""
+        K = self.stiffness(kappa3)
+        if spin_rate == 0.0 or not self._rhoJ:
+            nu = scipy.linalg.eigh(K, self._M, eigvals_only=True)
+            lam = np.sqrt(-nu.astype(complex))
+        else:
+            G = self.gyroscopic(-spin_rate * (self.rod.L - self._s))
+            m = self.modes
+            Minv = np.linalg.inv(self._M)
+            A = np.block([[np.zeros((m, m)), np.eye(m)], [-Minv @ K, -Minv @ G]])
+            lam = np.linalg.eigvals(A)
+        return lam[np.argsort(-lam.real)]
+
+    def growth_rate(self, kappa3, spin_rate: float = 0.0) -> np.ndarray | float:
+        """Largest real part of the exponents (1/s): > 0 beyond the critical twist."""
+        out = np.array([self.spectrum(k, spin_rate)[0].real for k in np.atleast_1d(kappa3)])
+        return out if np.ndim(kappa3) else float(out[0])
+
+    def critical_twist(self) -> float:
+        """The twist at which the lowest eigenvalue of (Kb + K_M, Mr) crosses zero."""
+
+        def lowest(k):
+            return scipy.linalg.eigh(self.stiffness(k), self._M, eigvals_only=True)[0]
+
+        guess = critical_twist(self.rod)
+        return float(
+            scipy.optimize.brentq(lowest, 0.8 * guess, 1.2 * guess, xtol=1e-14, rtol=1e-15)
+        )
+
+    def efolds(self, a: float, kappa3: np.ndarray) -> np.ndarray:
+        """N = int lambda dt = (1/a) int_{kappa_cri}^{kappa3} lambda(kappa) dkappa: the number of
+        e-foldings the frozen growth rate (no spin) accumulates up to kappa3 (WKB)."""
+        kc = self.critical_twist()
+        kappa3 = np.atleast_1d(np.asarray(kappa3, dtype=float))
+        grid = np.linspace(kc, max(kc, float(kappa3.max())), 801)
+        lam = np.maximum(self.growth_rate(grid), 0.0)
+        cum = np.concatenate([[0.0], np.cumsum(0.5 * np.diff(grid) * (lam[1:] + lam[:-1]))])
+        return np.interp(kappa3, grid, cum) / a
+
+    # ------------------------------------------------------------------ the slow passage
+    def seed_load(self, seed: Perturbation, theta: np.ndarray) -> np.ndarray:
+        """F_i = int phi_i f ds for the body-frame seed and the angle theta of d1 at the nodes."""
+        d = np.asarray(seed.direction, dtype=float)
+        lateral = (d[0] + 1j * d[1]) * seed.magnitude
+        if seed.form == "uniform":
+            return self._phi.T @ (self._w * lateral * np.exp(1j * theta))
+        if not 0 <= seed.location <= self.rod.L:
+            raise ValueError(
+                f"perturbation location={seed.location!r} must lie in [0, L] = [0, {self.rod.L}]"
+            )
+        phi0 = np.array(
+            [np.interp(seed.location, self._s, self._phi[:, j]) for j in range(self.modes)]
+        )
+        th0 = np.interp(seed.location, self._s, theta)
+        return phi0 * lateral * np.exp(1j * th0)
+
+    def passage(
+        self,
+        a: float,
+        kappa0: float = 10.0,
+        seed: Perturbation | float = 1e-8,
+        *,
+        waves: bool = True,
+        spin: bool = True,
+        terms: int = 8,
+        t_end: float | None = None,
+        u_ref: float | None = None,
+        dt: float | None = None,
+        samples: int = 2000,
+    ) -> Passage:
+        """Integrate (L2) from rest through the instability until |u3(L)| = u_ref.
+
+        Classical Runge-Kutta (order 4) with the fixed step ``dt``; the default is
+        0.5 / omega_max, omega_max the largest frequency of (L2) at the twist reached
+        at ``t_end``, and with ``waves`` also 1 / omega_T, omega_T = (2 terms - 1) pi c
+        / (2 L) the fastest of the ``terms`` torsional modes kept in the prebuckling
+        state (:class:`Prebuckling`).  ``u_ref`` defaults to the onset detector's
+        L / T0.  ``t_end`` defaults to the time at which the ramp passes kappa_cri
+        plus 4 T0 (T0 = L^2 sqrt(rho A / B1)).  The crossing time ``t_ref`` is
+        found on the cubic Hermite interpolant of u3 over the step (order 4, like the
+        steps); it is nan if u_ref is not reached.
+        """
+        if not isinstance(seed, Perturbation):
+            seed = Perturbation(magnitude=float(seed))
+        base = Prebuckling(self.rod, a, kappa0, waves=waves, spin=spin, terms=terms)
+        r = self.rod
+        T0 = r.L**2 * math.sqrt(r.mass_per_length / r.B1)
+        if u_ref is None:
+            u_ref = r.L / T0
+        if not (math.isfinite(u_ref) and u_ref > 0):
+            raise ValueError(f"u_ref={u_ref!r} must be finite and > 0")
+        if t_end is None:
+            t_end = max(0.0, (critical_twist(r) - kappa0) / a) + 4 * T0
+        if not (math.isfinite(t_end) and t_end > 0):
+            raise ValueError(f"t_end={t_end!r} must be finite and > 0")
+        if dt is None:
+            nu = scipy.linalg.eigh(self.stiffness(kappa0 + a * t_end), self._M, eigvals_only=True)
+            dt = 0.5 / math.sqrt(np.max(np.abs(nu)))
+            if waves:
+                dt = min(dt, 2 * r.L / ((2 * terms - 1) * math.pi * r.c))
+        if not (math.isfinite(dt) and 0 < dt < t_end):
+            raise ValueError(f"dt={dt!r} must be finite and in (0, t_end = {t_end})")
+        n_steps = int(math.ceil(t_end / dt))
+        dt = t_end / n_steps
+        m = self.modes
+        Mlu = scipy.linalg.lu_factor(self._M)
+        state = base.at(self._s)
+
+        def rhs(t, y):
+            q, v = y[:m], y[m:]
+            kappa, omega, omega_t, theta = state(t)
+            force = self.seed_load(seed, theta) - self.stiffness(kappa, omega_t) @ q
+            if spin and self._rhoJ:
+                force = force - self.gyroscopic(omega) @ v
+            return np.concatenate([v, scipy.linalg.lu_solve(Mlu, force)])
+
+        def u3(y):
+            q, v = y[:m], y[m:]
+            return -np.real(np.conj(q) @ (self._P @ v))
+
+        def u3_rate(y, f):
+            q, v, acc = y[:m], y[m:], f[m:]
+            return -np.real(np.conj(v) @ (self._P @ v) + np.conj(q) @ (self._P @ acc))
+
+        def crossing(t0, y0, f0, y1, f1):
+            """u_ref on the cubic Hermite interpolant of u3 over [t0, t0 + dt]."""
+            a0, a1 = u3(y0), u3(y1)
+            sign = np.sign(a1)
+            h0, h1 = a0 * sign, a1 * sign
+            d0, d1 = u3_rate(y0, f0) * sign * dt, u3_rate(y1, f1) * sign * dt
+
+            def U(x):
+                return (
+                    (2 * x**3 - 3 * x**2 + 1) * h0
+                    + (x**3 - 2 * x**2 + x) * d0
+                    + (-2 * x**3 + 3 * x**2) * h1
+                    + (x**3 - x**2) * d1
+                    - u_ref
+                )
+
+            if U(0.0) >= 0.0:  # u3 changed sign within the step: fall back to a line
+                return t0 + (u_ref - abs(a0)) / (abs(a1) - abs(a0)) * dt
+            return t0 + scipy.optimize.brentq(U, 0.0, 1.0, xtol=1e-14) * dt
+
+        every = max(1, n_steps // samples)
+        y = np.zeros(2 * m, dtype=complex)
+        t = 0.0
+        ts, ys = [0.0], [y]
+        t_ref = math.nan
+        for n in range(1, n_steps + 1):
+            k1 = rhs(t, y)
+            k2 = rhs(t + dt / 2, y + dt / 2 * k1)
+            k3 = rhs(t + dt / 2, y + dt / 2 * k2)
+            k4 = rhs(t + dt, y + dt * k3)
+            y_old, y = y, y + dt / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+            t_new, reached = n * dt, abs(u3(y)) >= u_ref
+            if not np.all(np.isfinite(y)):
+                raise RuntimeError(
+                    f"the linear passage blew up at t = {t_new:.6g} s: reduce dt={dt}"
+                )
+            if n % every == 0 or reached:
+                ts.append(t_new)
+                ys.append(y)
+            if reached:
+                t_ref = crossing(t, y_old, k1, y, rhs(t_new, y))
+                break
+            t = t_new
+        ts, ys = np.array(ts), np.array(ys).T
+        return Passage(
+            t=ts,
+            u3=np.array([u3(ys[:, i]) for i in range(ts.size)]),
+            kappa3=kappa0 + a * ts,
+            amplitude=np.sqrt(
+                np.real(np.sum(np.conj(ys[:m]) * (self._M @ ys[:m]), axis=0))
+                / (r.mass_per_length * r.L)
+            ),
+            t_ref=t_ref,
+            kappa3_ref=kappa0 + a * t_ref,
+            u_ref=float(u_ref),
+            params={
+                "a": a,
+                "kappa0": kappa0,
+                "seed": {"magnitude": seed.magnitude, "form": seed.form, "location": seed.location},
+                "waves": waves,
+                "spin": spin,
+                "terms": terms,
+                "modes": self.modes,
+                "quadrature": self.quadrature,
+                "rotary_inertia": self.rotary_inertia,
+                "gyro": self.gyro,
+                "dt": dt,
+            },
+        )
+
+
+# ======================================================================= cached predictions
+#: record kind of a cached linear prediction (its code fingerprint: results.KIND_CODE)
+KIND = "linear-onset"
+
+
+@dataclass(frozen=True)
+class Prediction:
+    """The linear prediction of one buckling scene's onset.
+
+    ``scene`` (a :class:`~dyntorsion.sweep.Scene`) gives the rod, the rate, the
+    pretwist and the seed; its grid, scheme and Newton options play no part.  The
+    other fields are the options of :class:`LateralModel` and
+    :meth:`LateralModel.passage`.
+    """
+
+    scene: Scene
+    waves: bool = True
+    spin: bool = True
+    rotary_inertia: bool = True
+    modes: int = 16
+    terms: int = 8
+
+    def model(self) -> LateralModel:
+        return LateralModel(
+            self.scene.rod,
+            modes=self.modes,
+            quadrature=max(128, 4 * self.modes + 16),
+            rotary_inertia=self.rotary_inertia,
+        )
+
+    def params(self) -> dict[str, Any]:
+        p = self.scene.params()
+        return {
+            "rod": p["rod"],
+            "a": p["a"],
+            "kappa0": p["kappa0"],
+            "perturbation": p["perturbation"],
+            "linear": {
+                "waves": self.waves,
+                "spin": self.spin,
+                "rotary_inertia": self.rotary_inertia,
+                "modes": self.modes,
+                "quadrature": self.model().quadrature,
+                "terms": self.terms if self.waves else None,
+            },
+        }
+
+    def label(self) -> str:
+        opts = [k for k in ("waves", "spin", "rotary_inertia") if not getattr(self, k)]
+        return (
+            f"linear a={self.scene.a:.4g} kappa0={self.scene.kappa0:g} "
+            f"seed={self.scene.seed.magnitude:g} modes={self.modes}"
+            + "".join(f" no-{k}" for k in opts)
+        )
+
+
+def run_prediction(pred: Prediction) -> dict[str, Any]:
+    """Integrate one :class:`Prediction`: a JSON-ready dict (t_ref None if not reached)."""
+    sc = pred.scene
+    p = pred.model().passage(
+        sc.a, sc.kappa0, sc.seed, waves=pred.waves, spin=pred.spin, terms=pred.terms
+    )
+    reached = math.isfinite(p.t_ref)
+    return {
+        "t_ref": p.t_ref if reached else None,
+        "kappa3_ref": p.kappa3_ref if reached else None,
+        "u_ref": p.u_ref,
+        "t_last": float(p.t[-1]),
+        "dt": p.params["dt"],
+    }
+
+
+def _timed(pred: Prediction) -> tuple[dict[str, Any], float]:
+    start = time.perf_counter()
+    return run_prediction(pred), time.perf_counter() - start
+
+
+def predict(
+    preds: Sequence[Prediction],
+    store: Store | str | Path | None = None,
+    *,
+    compute: bool = True,
+    jobs: int = 1,
+    on_stale: str = "recompute",
+    log: Callable[[str], None] | None = None,
+) -> pd.DataFrame:
+    """Run (or read back) linear predictions; one row per prediction, in order.
+
+    Cached like the buckling scenes (:func:`~dyntorsion.sweep.run_sweep`): read from
+    ``store`` (default :data:`~dyntorsion.sweep.DATA`) when present and fresh,
+    otherwise computed on ``jobs`` processes and written the moment each finishes;
+    ``compute=False`` raises :class:`~dyntorsion.sweep.MissingResultError` for a
+    missing one.
+    """
+    store = Store(DATA if store is None else store) if not isinstance(store, Store) else store
+    if not isinstance(jobs, int) or jobs < 1:
+        raise ValueError(f"jobs={jobs!r} must be an integer >= 1")
+    say = log or (lambda msg: None)
+    records: dict[int, dict[str, Any]] = {}
+    todo = []
+    for i, pred in enumerate(preds):
+        rec = store.load(KIND, pred.params(), on_stale=on_stale)
+        if rec is None:
+            todo.append(i)
+        else:
+            records[i] = rec
+    if todo and not compute:
+        missing = "\n  ".join(preds[i].label() for i in todo)
+        raise MissingResultError(
+            f"{len(todo)} linear prediction(s) are not in {store.root}:\n  {missing}\n"
+            "compute them with `make data` (or `dyntorsion linear`)"
+        )
+
+    def finish(i: int, result: dict[str, Any], wall: float) -> None:
+        records[i] = store.read(store.save(KIND, preds[i].params(), result, wall_time=wall))
+        say(f"done in {wall:.1f} s: {preds[i].label()} -> kappa3 = {result['kappa3_ref']}")
+
+    if jobs == 1:
+        for i in todo:
+            finish(i, *_timed(preds[i]))
+    elif todo:
+        ctx = multiprocessing.get_context("spawn")
+        with cf.ProcessPoolExecutor(max_workers=jobs, mp_context=ctx) as pool:
+            futures = {pool.submit(_timed, preds[i]): i for i in todo}
+            for fut in cf.as_completed(futures):
+                finish(futures[fut], *fut.result())
+    rows = []
+    for i, pred in enumerate(preds):
+        res = records[i]["result"]
+        rows.append(
+            {
+                "a": pred.scene.a,
+                "kappa0": pred.scene.kappa0,
+                "seed": pred.scene.seed.magnitude,
+                "seed_form": pred.scene.seed.form,
+                "location": pred.scene.seed.location,
+                "waves": pred.waves,
+                "spin": pred.spin,
+                "rotary_inertia": pred.rotary_inertia,
+                "modes": pred.modes,
+                "t_ref": np.nan if res["t_ref"] is None else res["t_ref"],
+                "kappa3_ref": np.nan if res["kappa3_ref"] is None else res["kappa3_ref"],
+                "wall_time_s": records[i]["provenance"].get("wall_time_s"),
+            }
+        )
+    return pd.DataFrame(rows)
+
+
+#: the variants of the linear model compared on the "Why is buckling delayed?" page
+VARIANTS: dict[str, dict[str, Any]] = {
+    "full: waves and spin": {},
+    "no waves (uniform ramp)": {"waves": False},
+    "no spin (twist imposed through the rod)": {"waves": False, "spin": False},
+    "no rotary inertia": {"waves": False, "rotary_inertia": False},
+    "32 modes (no waves)": {"waves": False, "modes": 32},
+}
+
+
+def _from(sweep_preset: str, **options: Any) -> list[Prediction]:
+    return [Prediction(sc, **options) for sc in sweep_preset_scenes(sweep_preset)]
+
+
+def _variants() -> list[Prediction]:
+    rates = IMPERFECTION_RATES
+    return [Prediction(Scene(a=a), **kw) for a in rates for kw in VARIANTS.values()]
+
+
+def _imperfection() -> list[Prediction]:
+    scenes = sweep_preset_scenes("imperfection")
+    return [Prediction(sc, waves=False) for sc in scenes if sc.seed.magnitude > 0]
+
+
+#: name -> function returning the predictions; ``make data`` runs them all
+PRESETS: dict[str, Callable[[], list[Prediction]]] = {
+    "linear-fig10": lambda: _from("fig10"),
+    "linear-fig10-tiny-seed": lambda: _from("fig10-tiny-seed", waves=False),
+    "linear-imperfection": _imperfection,
+    "linear-variants": _variants,
+}
+
+
+def preset(name: str) -> list[Prediction]:
+    """The predictions of a named preset (see :data:`PRESETS`)."""
+    if name not in PRESETS:
+        raise ValueError(f"preset={name!r}; allowed: {', '.join(PRESETS)}")
+    return PRESETS[name]()
+
+
+def cached(name: str, store: Store | str | Path | None = None) -> pd.DataFrame:
+    """A named preset's table read from ``store``, computing nothing."""
+    return predict(preset(name), store, compute=False, on_stale="error")

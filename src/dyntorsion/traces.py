@@ -1,0 +1,85 @@
+"""The end-shortening speed u3(L, t) of a buckling scene, simulated and linear, side by side.
+
+The onset detector (:func:`~dyntorsion.buckling.detect_onset`) and the linear
+prediction (:mod:`~dyntorsion.linear_stability`) meet at one number, the time
+|u3(L, t)| reaches u_ref.  A trace comparison shows the whole approach: how long the
+simulated rod follows the linear growth, and where it departs.  Records of kind
+``onset-trace`` (cached in ``data/``, ``make data``) hold both traces sampled on a
+common time grid.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from .buckling import simulate
+from .linear_stability import LateralModel
+from .results import Store
+from .sweep import DATA, Scene
+
+__all__ = ["KIND", "SCENES", "compare", "load"]
+
+KIND = "onset-trace"
+
+#: the three rates of the imperfection study, stated seed, standard grid
+SCENES: tuple[Scene, ...] = tuple(Scene(a=a) for a in (0.2, 1.6, 12.8))
+
+
+def _params(scene: Scene, modes: int, samples: int) -> dict[str, Any]:
+    return scene.params() | {"linear": {"modes": modes, "waves": True}, "samples": samples}
+
+
+def compare(scene: Scene, modes: int = 16, samples: int = 1200) -> dict[str, Any]:
+    """Simulate ``scene`` (stopping shortly after its u_ref crossing) and integrate the
+    linear model with the torsional waves; both |u3(L, t)| on ``samples`` common times
+    from 0 to the simulated t_ref + 10 % (JSON-ready)."""
+    lin = LateralModel(scene.rod, modes=modes).passage(scene.a, scene.kappa0, scene.seed)
+    t_stop = 1.1 * lin.t_ref + 1.0
+    run = simulate(
+        scene.rod,
+        a=scene.a,
+        kappa0=scene.kappa0,
+        n_cells=scene.n_cells,
+        dt=scene.dt,
+        t_end=t_stop,
+        perturbation=scene.seed,
+        scheme=scene.scheme,
+        newton=scene.newton,
+        progress=False,
+        on_failure="return",
+    )
+    t = np.linspace(0.0, min(run.t[-1], lin.t[-1]), samples)
+    return {
+        "t": t,
+        "u3_simulated": np.interp(t, run.t, np.abs(run.u3_end)),
+        "u3_linear": np.interp(t, lin.t, np.abs(lin.u3)),
+        "t_ref_linear": lin.t_ref,
+        "u_ref": lin.u_ref,
+    }
+
+
+def load(
+    scenes: tuple[Scene, ...] = SCENES,
+    store: Store | str | None = None,
+    *,
+    compute: bool = False,
+    modes: int = 16,
+    samples: int = 1200,
+) -> list[dict[str, Any]]:
+    """The trace records of ``scenes`` from ``store`` (default data/scenes); missing or
+    stale ones are computed with ``compute=True`` and refused otherwise."""
+    store = Store(DATA if store is None else store) if not isinstance(store, Store) else store
+    out = []
+    for sc in scenes:
+        params = _params(sc, modes, samples)
+        rec = store.load(KIND, params, on_stale="recompute" if compute else "error")
+        if rec is None:
+            if not compute:
+                raise LookupError(
+                    f"no {KIND} record for {sc.label()} in {store.root}: run `make data`"
+                )
+            rec = store.read(store.save(KIND, params, compare(sc, modes, samples)))
+        out.append(rec["result"])
+    return out

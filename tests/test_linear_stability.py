@@ -1,0 +1,221 @@
+"""Linear stability of the twisted, spinning rod (dyntorsion.linear_stability)."""
+
+import math
+
+import mpmath
+import numpy as np
+import pytest
+
+from dyntorsion import Rod
+from dyntorsion import linear_stability as LS
+from dyntorsion import results as R
+from dyntorsion import sweep as S
+from dyntorsion.buckling import M_CRI_MP, Perturbation, critical_twist
+from dyntorsion.waves import linear_loading_dalembert
+
+ROD = Rod()
+KC = critical_twist(ROD)
+
+
+# ------------------------------------------------------------------ the Galerkin basis
+def test_beam_roots_match_mpmath():
+    """cos(beta) cosh(beta) = 1, the first five roots to 30 digits (mpmath)."""
+    _, _, _, _, _, beta = LS._beam_modes(5, 64)
+    with mpmath.workdps(30):
+        ref = [
+            mpmath.findroot(lambda b: mpmath.cos(b) * mpmath.cosh(b) - 1, (j + 0.5) * mpmath.pi)
+            for j in range(1, 6)
+        ]
+    assert np.allclose(beta, [float(r) for r in ref], rtol=1e-14, atol=0)
+
+
+def test_beam_modes_are_orthonormal_and_diagonalise_bending():
+    """int phi_i phi_j = delta_ij and int phi_i'' phi_j'' = beta^4 delta_ij (the modes of
+    phi'''' = beta^4 phi with w = w' = 0 at both ends) to round-off, for 40 modes."""
+    x, w, phi, d1, d2, beta = LS._beam_modes(40, 256)
+    assert np.abs(phi.T @ (w[:, None] * phi) - np.eye(40)).max() < 1e-12
+    K = d2.T @ (w[:, None] * d2)
+    assert np.abs(K / np.outer(beta**2, beta**2) - np.eye(40)).max() < 1e-11
+    # the clamped ends: phi ~ x^2 near x = 0, so phi / x^2 stays bounded at the first node
+    assert np.all(np.abs(phi[0] / x[0] ** 2) < 2 * beta**2)
+
+
+# ------------------------------------------------------------------ frozen spectrum
+def test_critical_twist_converges_to_eq32_from_above():
+    """The Galerkin (Rayleigh-Ritz) critical twist approaches eq (32) from above, with an
+    observed algebraic order of at least 4 in the number of modes."""
+    modes = (8, 16, 32)
+    err = np.array(
+        [LS.LateralModel(ROD, modes=m, quadrature=160).critical_twist() - KC for m in modes]
+    )
+    assert np.all(err > 0)
+    order = np.log(err[:-1] / err[1:]) / np.log(2)
+    assert np.all(order > 4.0), order
+    assert err[-1] / KC < 1e-6
+    assert float(2 * mpmath.pi * M_CRI_MP) * ROD.B1 / (ROD.C * ROD.L) == pytest.approx(
+        KC, rel=1e-15
+    )
+
+
+def test_matrices_have_the_structure_of_a_gyroscopic_system():
+    """Uniform twist: K Hermitian; spin: G skew-Hermitian; M symmetric positive definite."""
+    model = LS.LateralModel(ROD, modes=12)
+    K = model.stiffness(15.0)
+    G = model.gyroscopic(-3.0 * (ROD.L - model._s))
+    assert np.abs(K - K.conj().T).max() < 1e-12 * np.abs(K).max()
+    assert np.abs(G + G.conj().T).max() < 1e-12 * np.abs(G).max()
+    assert np.all(np.linalg.eigvalsh(model._M) > 0)
+
+
+def test_growth_rate_is_zero_below_and_a_square_root_just_above_kappa_cri():
+    """Below kappa_cri the straight rod only vibrates (Re lambda = 0); just above it the
+    growth rate follows lambda^2 = g (kappa - kappa_cri) (a simple zero of the lowest
+    eigenvalue): lambda^2 / delta agrees at delta = 1e-4 and 1e-3 to 1 %."""
+    model = LS.LateralModel(ROD)
+    kc = model.critical_twist()
+    assert model.growth_rate(0.99 * kc) == 0.0
+    assert model.growth_rate(10.0) == 0.0
+    lam = model.growth_rate(np.array([kc + 1e-4, kc + 1e-3]))
+    g = lam**2 / np.array([1e-4, 1e-3])
+    assert g[0] == pytest.approx(g[1], rel=0.01)
+    assert np.all(np.diff(model.growth_rate(np.linspace(kc + 0.5, 50, 12))) > 0)
+
+
+def test_spin_barely_changes_the_growth_rate():
+    """The gyroscopic coupling rho J omega3 is ~1e-6 of the lateral inertia at the fastest
+    rate of Fig 10, so the frozen growth rate with the spin of a = 16 equals the one
+    without to 1e-6 (relative)."""
+    model = LS.LateralModel(ROD, modes=12)
+    for kappa in (14.0, 30.0):
+        assert model.growth_rate(kappa, spin_rate=16.0) == pytest.approx(
+            model.growth_rate(kappa), rel=1e-6
+        )
+
+
+def test_efolds_follow_the_slow_passage_law_near_kappa_cri():
+    """N = (1/a) int lambda dkappa = (2/3) sqrt(g) (kappa - kappa_cri)^{3/2} / a near kappa_cri."""
+    model = LS.LateralModel(ROD, modes=12)
+    kc = model.critical_twist()
+    g = model.growth_rate(kc + 1e-4) ** 2 / 1e-4
+    d = 0.02
+    n = model.efolds(0.5, kc + d)[0]
+    assert n == pytest.approx(2 / 3 * math.sqrt(g) * d**1.5 / 0.5, rel=0.02)
+
+
+# ------------------------------------------------------------------ the prebuckling state
+def test_prebuckling_state_is_the_exact_solution_of_eq23():
+    """kappa3 equals the d'Alembert solution of section 5; kappa3(0, t) = kappa0 + a t;
+    omega3(L, t) = 0; compatibility kappa_t = omega_s and theta_t = omega3 hold."""
+    pb = LS.Prebuckling(ROD, a=1.6, kappa0=10.0, terms=4000)
+    s = np.linspace(0.0, ROD.L, 9)
+    for t in (0.013, 0.05, 0.4, 3.0):
+        k, w, _, _ = pb(s, t)
+        ref = linear_loading_dalembert(s, t, a=1.6, kappa0=10.0, c=ROD.c, L=ROD.L)
+        assert np.abs(k - ref).max() < 1e-6
+        assert k[0] == pytest.approx(10.0 + 1.6 * t, abs=1e-12)
+        assert w[-1] == pytest.approx(0.0, abs=1e-12)
+    smooth = LS.Prebuckling(ROD, a=1.6, kappa0=10.0, terms=6)
+    s, t, h = np.linspace(0.05, 0.95, 7), 0.71, 1e-6
+    k_t = (smooth(s, t + h)[0] - smooth(s, t - h)[0]) / (2 * h)
+    w_s = (smooth(s + h, t)[1] - smooth(s - h, t)[1]) / (2 * h)
+    th_t = (smooth(s, t + h)[3] - smooth(s, t - h)[3]) / (2 * h)
+    w_t = (smooth(s, t + h)[1] - smooth(s, t - h)[1]) / (2 * h)
+    assert np.allclose(k_t, w_s, rtol=0, atol=1e-6)
+    assert np.allclose(th_t, smooth(s, t)[1], rtol=0, atol=1e-6)
+    assert np.allclose(w_t, smooth(s, t)[2], rtol=0, atol=1e-4)
+
+
+def test_no_spin_and_no_waves_switches():
+    s = np.linspace(0, 1, 5)
+    k, w, wt, th = LS.Prebuckling(ROD, a=2.0, kappa0=1.0, waves=False, spin=False)(s, 0.5)
+    assert np.all(k == 2.0) and np.all(w == 0) and np.all(wt == 0)
+    assert np.allclose(th, -2.0 * (1 - s))
+
+
+# ------------------------------------------------------------------ the slow passage
+@pytest.fixture(scope="module")
+def fast_model():
+    return LS.LateralModel(ROD, modes=8, quadrature=64)
+
+
+def test_passage_converges_at_fourth_order_in_dt(fast_model):
+    """Runge-Kutta 4: the crossing time for dt, dt/2, dt/4 converges with observed order ~4."""
+    t = [
+        fast_model.passage(12.8, 10.0, 1e-8, waves=False, dt=dt).t_ref
+        for dt in (0.01, 0.005, 0.0025)
+    ]
+    order = math.log2(abs(t[0] - t[1]) / abs(t[1] - t[2]))
+    assert 3.7 < order < 4.3, (t, order)
+
+
+def test_passage_is_linear_in_the_seed(fast_model):
+    """u3 is quadratic in the lateral motion: seed x 10 reaches u_ref x 100 at the same time."""
+    p1 = fast_model.passage(12.8, 10.0, 1e-8, waves=False, dt=0.005)
+    p2 = fast_model.passage(12.8, 10.0, 1e-7, waves=False, dt=0.005, u_ref=100 * p1.u_ref)
+    assert p2.t_ref == pytest.approx(p1.t_ref, rel=1e-9)
+    assert np.allclose(p2.u3, 100 * p1.u3, rtol=1e-9, atol=0)
+
+
+def test_smaller_seed_and_faster_loading_buckle_later_in_twist(fast_model):
+    k = {
+        (a, e): fast_model.passage(a, 10.0, e, waves=False).kappa3_ref
+        for a in (3.2, 12.8)
+        for e in (1e-6, 1e-10)
+    }
+    assert k[(3.2, 1e-10)] > k[(3.2, 1e-6)] > KC
+    assert k[(12.8, 1e-6)] > k[(3.2, 1e-6)]
+
+
+def test_waves_change_the_prediction_little(fast_model):
+    """The torsional oscillation averages out over the bending time scale."""
+    kw = dict(a=12.8, kappa0=10.0, seed=1e-8)
+    ramp = fast_model.passage(**kw, waves=False).kappa3_ref
+    waves = fast_model.passage(**kw, waves=True, terms=4).kappa3_ref
+    assert abs(waves - ramp) < 1e-3 * (ramp - KC)
+
+
+def test_point_seed_and_bad_input(fast_model):
+    p = fast_model.passage(12.8, 10.0, Perturbation(1e-8, "point", 0.5), waves=False)
+    assert p.reached and p.kappa3_ref > KC
+    with pytest.raises(ValueError, match="location"):
+        fast_model.passage(12.8, 10.0, Perturbation(1e-8, "point", 2.0), waves=False)
+    with pytest.raises(ValueError, match="a=-1"):
+        fast_model.passage(-1.0)
+    with pytest.raises(ValueError, match="u_ref"):
+        fast_model.passage(1.0, u_ref=0.0)
+    with pytest.raises(ValueError, match="dt"):
+        fast_model.passage(1.0, dt=-1.0)
+    with pytest.raises(ValueError, match="modes"):
+        LS.LateralModel(ROD, modes=0)
+    with pytest.raises(ValueError, match="quadrature"):
+        LS.LateralModel(ROD, modes=20, quadrature=50)
+    with pytest.raises(ValueError, match="preset"):
+        LS.preset("nope")
+
+
+def test_unreached_threshold_gives_nan(fast_model):
+    p = fast_model.passage(1.0, 10.0, 1e-8, waves=False, t_end=1.0)
+    assert not p.reached and math.isnan(p.kappa3_ref)
+
+
+# ------------------------------------------------------------------ cache and findings
+def test_prediction_cache_round_trip(tmp_path, monkeypatch):
+    pred = LS.Prediction(S.Scene(a=12.8), waves=False, modes=4)
+    table = LS.predict([pred], tmp_path)
+    rec = next(R.Store(tmp_path).records(LS.KIND))
+    assert rec["provenance"]["code"] == R.code_of(LS.KIND) != R.code_of(S.KIND)
+    monkeypatch.setattr(LS, "run_prediction", lambda p: pytest.fail("recomputed"))
+    again = LS.predict([pred], tmp_path, compute=False)
+    assert again["kappa3_ref"].iloc[0] == table["kappa3_ref"].iloc[0]
+    with pytest.raises(S.MissingResultError, match="make data"):
+        LS.predict([LS.Prediction(S.Scene(a=1.0), modes=4)], tmp_path, compute=False)
+
+
+def test_linear_theory_predicts_the_simulated_onset_over_fig10():
+    """The finding of "Why is buckling delayed? (2)": with no fitted parameter the linear
+    prediction of the time |u3(L)| reaches u_ref lies within 3 % of the simulated one at
+    every rate of Fig 10 (stated seed), and is never later."""
+    sim = S.cached("fig10")
+    lin = LS.cached("linear-fig10")
+    ratio = lin["t_ref"].to_numpy() / sim["t_ref"].to_numpy()
+    assert np.all(ratio < 1.0) and np.all(ratio > 0.97), ratio
