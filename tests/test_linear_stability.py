@@ -219,3 +219,13 @@ def test_linear_theory_predicts_the_simulated_onset_over_fig10():
     lin = LS.cached("linear-fig10")
     ratio = lin["t_ref"].to_numpy() / sim["t_ref"].to_numpy()
     assert np.all(ratio < 1.0) and np.all(ratio > 0.97), ratio
+
+
+def test_cli_reads_the_committed_predictions(capsys):
+    from dyntorsion.cli import main
+
+    assert main(["linear", "--preset", "linear-variants", "--on-stale", "error", "--quiet"]) == 0
+    out = capsys.readouterr().out
+    assert "kappa3_ref" in out and len(out.strip().splitlines()) == 1 + len(
+        LS.preset("linear-variants")
+    )
