@@ -5,6 +5,9 @@
   step in the violent motion after the onset); the onset's t_c is grid independent
   to 0.04 % there (docs/figures/fig08.md).
 * Fig 6: the smooth-release wave on the paper's grid and on a grid 16 times finer.
+* The linear prediction of a Fig 10 scene (kappa0 = 10, a = 1.6, stated seed;
+  dyntorsion.linear_stability), with and without the torsional waves, beside the
+  simulated scene.
 
 Medians of three runs; nothing is asserted.
 """
@@ -14,9 +17,11 @@ from __future__ import annotations
 import platform
 import statistics
 import sys
+import time
 
 from dyntorsion import __version__
 from dyntorsion import buckling as b
+from dyntorsion import linear_stability as ls
 from dyntorsion import waves as w
 
 
@@ -49,6 +54,23 @@ def main() -> None:
         print(
             f"Fig 6 wave, N={n}, dt={dt:g}: {1e3 * statistics.median(times):.1f} ms, "
             f"max error {sol.errors()['max'][0]:.2e}"
+        )
+
+    model = ls.LateralModel()
+    sim = []
+    for _ in range(3):
+        run = b.simulate(a=1.6, kappa0=10.0, n_cells=100, dt=0.005, t_end=10.0)
+        sim.append(run.run.wall_time)
+    print(f"Fig 10 scene a=1.6 simulated to 10 s (N=100, dt=0.005): {statistics.median(sim):.2f} s")
+    for waves in (False, True):
+        times = []
+        for _ in range(3):
+            start = time.perf_counter()
+            p = model.passage(1.6, 10.0, 1e-8, waves=waves)
+            times.append(time.perf_counter() - start)
+        print(
+            f"linear prediction, 16 modes, waves={waves}: {statistics.median(times):.2f} s "
+            f"(dt = {p.params['dt']:.2g} s), t_ref = {p.t_ref:.4f} s"
         )
 
 
