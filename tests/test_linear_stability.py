@@ -229,3 +229,13 @@ def test_cli_reads_the_committed_predictions(capsys):
     assert "kappa3_ref" in out and len(out.strip().splitlines()) == 1 + len(
         LS.preset("linear-variants")
     )
+
+
+def test_a_committed_prediction_is_reproduced():
+    """Recomputing the cheapest committed prediction (a = 12.8, no waves) gives the cached
+    numbers (to 1e-9: a different BLAS may reorder sums)."""
+    pred = LS.Prediction(S.Scene(a=12.8), waves=False)
+    cached = LS.predict([pred], compute=False, on_stale="error").iloc[0]
+    fresh = LS.run_prediction(pred)
+    assert fresh["kappa3_ref"] == pytest.approx(cached["kappa3_ref"], rel=1e-9)
+    assert fresh["t_ref"] == pytest.approx(cached["t_ref"], rel=1e-9)
