@@ -7,7 +7,7 @@ w = x + i y (lab frame, complex).  The model of :mod:`dyntorsion.model` is
 inextensible and unshearable, so its linearisation is the Kirchhoff one: with
 the bending stiffness B = E I1 (isotropic), the twisting moment M = C kappa3,
 the rotary inertias rho I (bending) and rho J (spin), no axial force (n3 = 0 at
-s = L) and the seed f (lateral force per length, complex)
+s = L) and the seed f (lateral force per length, complex)::
 
     rho A w_tt - rho I w_tt'' + i rho J (omega3 w_t' + omega3_t w')'
         + B w'''' - i (M w')''  =  f                                   (L1)
@@ -19,7 +19,7 @@ of (L1) is the equation of :func:`~dyntorsion.buckling.critical_twist_numerical`
 
 Galerkin discretisation: w = sum_j q_j(t) phi_j(s) over the first ``modes``
 clamped-clamped beam modes phi_j (real, closed form), and (L1)
-multiplied by phi_i and integrated by parts:
+multiplied by phi_i and integrated by parts::
 
     Mr q'' + G(t) q' + (Kb + K_M(t) + K_w(t)) q = F(t)                 (L2)
 
@@ -41,7 +41,7 @@ frame, so in the lab frame it turns with the cross-section:
 f = magnitude (e1 + i e2) exp(i theta(s, t)), theta the angle of d1 (d1(L) = e1).
 
 :meth:`LateralModel.passage` integrates (L2) from rest and returns the time at
-which the end-shortening speed |u3(L, t)| = |d/dt int |w'|^2 / 2 ds| first reaches
+which the end-shortening speed ``|u3(L, t)| = |d/dt int |w'|^2 / 2 ds|`` first reaches
 the onset detector's level u_ref (:func:`~dyntorsion.buckling.detect_onset`): a
 prediction of the buckling time with no fitted parameter.
 """
@@ -131,7 +131,7 @@ class Prebuckling:
     t = 0 (eq 23).  The solution is the quasi-static ramp kappa0 + a t,
     omega3 = -a (L - s) plus (``waves=True``) the free oscillation left by the
     mismatch of the initial and boundary rates: with k_n = (2n - 1) pi / (2L) and
-    b_n = -2 a / (L c k_n^2),
+    b_n = -2 a / (L c k_n^2)::
 
         kappa3 += sum b_n sin(k_n s) sin(k_n c t),
         omega3 += -c sum b_n cos(k_n s) cos(k_n c t),
@@ -209,7 +209,7 @@ class Passage:
 
     @property
     def reached(self) -> bool:
-        """Whether |u3(L)| reached u_ref before the end of the run."""
+        """Whether ``|u3(L)|`` reached u_ref before the end of the run."""
         return math.isfinite(self.t_ref)
 
 
@@ -354,7 +354,7 @@ class LateralModel:
         dt: float | None = None,
         samples: int = 2000,
     ) -> Passage:
-        """Integrate (L2) from rest through the instability until |u3(L)| = u_ref.
+        """Integrate (L2) from rest through the instability until ``|u3(L)| = u_ref``.
 
         Classical Runge-Kutta (order 4) with the fixed step ``dt``; the default is
         0.5 / omega_max, omega_max the largest frequency of (L2) at the twist reached

@@ -2,7 +2,7 @@
 
 The onset detector (:func:`~dyntorsion.buckling.detect_onset`) and the linear
 prediction (:mod:`~dyntorsion.linear_stability`) meet at one number, the time
-|u3(L, t)| reaches u_ref.  A trace comparison shows the whole approach: how long the
+``|u3(L, t)|`` reaches u_ref.  A trace comparison shows the whole approach: how long the
 simulated rod follows the linear growth, and where it departs.  Records of kind
 ``onset-trace`` (cached in ``data/``, ``make data``) hold both traces sampled on a
 common time grid.
@@ -33,7 +33,7 @@ def _params(scene: Scene, modes: int, samples: int) -> dict[str, Any]:
 
 def compare(scene: Scene, modes: int = 16, samples: int = 1200) -> dict[str, Any]:
     """Simulate ``scene`` (stopping shortly after its u_ref crossing) and integrate the
-    linear model with the torsional waves up to 30 u_ref; both |u3(L, t)| on
+    linear model with the torsional waves up to 30 u_ref; both ``|u3(L, t)|`` on
     ``samples`` common times (JSON-ready)."""
     rod = scene.rod
     u_ref = rod.L / (rod.L**2 * np.sqrt(rod.mass_per_length / rod.B1))
