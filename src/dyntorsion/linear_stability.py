@@ -48,10 +48,7 @@ prediction of the buckling time with no fitted parameter.
 
 from __future__ import annotations
 
-import concurrent.futures as cf
 import math
-import multiprocessing
-import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from functools import lru_cache
@@ -66,7 +63,7 @@ import scipy.optimize
 from .buckling import Perturbation, critical_twist
 from .results import Store
 from .rod import Rod
-from .sweep import DATA, IMPERFECTION_RATES, MissingResultError, Scene
+from .sweep import IMPERFECTION_RATES, Scene, cached_map
 from .sweep import preset as sweep_preset_scenes
 
 __all__ = [
@@ -324,12 +321,14 @@ class LateralModel:
         return np.interp(kappa3, grid, cum) / a
 
     # ------------------------------------------------------------------ the slow passage
-    def seed_load(self, seed: Perturbation, theta: np.ndarray) -> np.ndarray:
-        """F_i = int phi_i f ds for the body-frame seed and the angle theta of d1 at the nodes."""
+    def seed_load(self, seed: Perturbation) -> Callable[[np.ndarray], np.ndarray]:
+        """theta -> F_i = int phi_i f ds: the modal load of the body-frame seed for the
+        angle theta of d1 at the nodes (what does not depend on theta is done once)."""
         d = np.asarray(seed.direction, dtype=float)
         lateral = (d[0] + 1j * d[1]) * seed.magnitude
         if seed.form == "uniform":
-            return self._phi.T @ (self._w * lateral * np.exp(1j * theta))
+            weights = self._w * lateral
+            return lambda theta: self._phi.T @ (weights * np.exp(1j * theta))
         if not 0 <= seed.location <= self.rod.L:
             raise ValueError(
                 f"perturbation location={seed.location!r} must lie in [0, L] = [0, {self.rod.L}]"
@@ -337,8 +336,7 @@ class LateralModel:
         phi0 = np.array(
             [np.interp(seed.location, self._s, self._phi[:, j]) for j in range(self.modes)]
         )
-        th0 = np.interp(seed.location, self._s, theta)
-        return phi0 * lateral * np.exp(1j * th0)
+        return lambda theta: phi0 * lateral * np.exp(1j * np.interp(seed.location, self._s, theta))
 
     def passage(
         self,
@@ -392,12 +390,19 @@ class LateralModel:
         Mlu = scipy.linalg.lu_factor(self._M)
         state = base.at(self._s)
 
-        def rhs(t, y):
-            q, v = y[:m], y[m:]
+        load = self.seed_load(seed)
+
+        def coefficients(t):
+            """(F, K, G) of (L2) at the time t: they depend on t only, not on the state."""
             kappa, omega, omega_t, theta = state(t)
-            force = self.seed_load(seed, theta) - self.stiffness(kappa, omega_t) @ q
-            if spin and self._rhoJ:
-                force = force - self.gyroscopic(omega) @ v
+            G = self.gyroscopic(omega) if spin and self._rhoJ else None
+            return load(theta), self.stiffness(kappa, omega_t), G
+
+        def rhs(y, c):
+            (F, K, G), q, v = c, y[:m], y[m:]
+            force = F - K @ q
+            if G is not None:
+                force = force - G @ v
             return np.concatenate([v, scipy.linalg.lu_solve(Mlu, force)])
 
         def u3(y):
@@ -433,13 +438,16 @@ class LateralModel:
         t = 0.0
         ts, ys = [0.0], [y]
         t_ref = math.nan
+        c_new = coefficients(t)
         for n in range(1, n_steps + 1):
-            k1 = rhs(t, y)
-            k2 = rhs(t + dt / 2, y + dt / 2 * k1)
-            k3 = rhs(t + dt / 2, y + dt / 2 * k2)
-            k4 = rhs(t + dt, y + dt * k3)
+            t_new = n * dt
+            c_old, c_mid, c_new = c_new, coefficients(t + dt / 2), coefficients(t_new)
+            k1 = rhs(y, c_old)
+            k2 = rhs(y + dt / 2 * k1, c_mid)
+            k3 = rhs(y + dt / 2 * k2, c_mid)
+            k4 = rhs(y + dt * k3, c_new)
             y_old, y = y, y + dt / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
-            t_new, reached = n * dt, abs(u3(y)) >= u_ref
+            reached = abs(u3(y)) >= u_ref
             if not np.all(np.isfinite(y)):
                 raise RuntimeError(
                     f"the linear passage blew up at t = {t_new:.6g} s: reduce dt={dt}"
@@ -448,7 +456,7 @@ class LateralModel:
                 ts.append(t_new)
                 ys.append(y)
             if reached:
-                t_ref = crossing(t, y_old, k1, y, rhs(t_new, y))
+                t_ref = crossing(t, y_old, k1, y, rhs(y, c_new))
                 break
             t = t_new
         ts, ys = np.array(ts), np.array(ys).T
@@ -551,11 +559,6 @@ def run_prediction(pred: Prediction) -> dict[str, Any]:
     }
 
 
-def _timed(pred: Prediction) -> tuple[dict[str, Any], float]:
-    start = time.perf_counter()
-    return run_prediction(pred), time.perf_counter() - start
-
-
 def predict(
     preds: Sequence[Prediction],
     store: Store | str | Path | None = None,
@@ -567,61 +570,42 @@ def predict(
 ) -> pd.DataFrame:
     """Run (or read back) linear predictions; one row per prediction, in order.
 
-    Cached like the buckling scenes (:func:`~dyntorsion.sweep.run_sweep`): read from
+    Cached like the buckling scenes (:func:`~dyntorsion.sweep.cached_map`): read from
     ``store`` (default :data:`~dyntorsion.sweep.DATA`) when present and fresh,
     otherwise computed on ``jobs`` processes and written the moment each finishes;
     ``compute=False`` raises :class:`~dyntorsion.sweep.MissingResultError` for a
     missing one.
     """
-    store = Store(DATA if store is None else store) if not isinstance(store, Store) else store
-    if not isinstance(jobs, int) or jobs < 1:
-        raise ValueError(f"jobs={jobs!r} must be an integer >= 1")
-    say = log or (lambda msg: None)
-    records: dict[int, dict[str, Any]] = {}
-    todo = []
-    for i, pred in enumerate(preds):
-        rec = store.load(KIND, pred.params(), on_stale=on_stale)
-        if rec is None:
-            todo.append(i)
-        else:
-            records[i] = rec
-    if todo and not compute:
-        missing = "\n  ".join(preds[i].label() for i in todo)
-        raise MissingResultError(
-            f"{len(todo)} linear prediction(s) are not in {store.root}:\n  {missing}\n"
-            "compute them with `make data` (or `dyntorsion linear`)"
-        )
-
-    def finish(i: int, result: dict[str, Any], wall: float) -> None:
-        records[i] = store.read(store.save(KIND, preds[i].params(), result, wall_time=wall))
-        say(f"done in {wall:.1f} s: {preds[i].label()} -> kappa3 = {result['kappa3_ref']}")
-
-    if jobs == 1:
-        for i in todo:
-            finish(i, *_timed(preds[i]))
-    elif todo:
-        ctx = multiprocessing.get_context("spawn")
-        with cf.ProcessPoolExecutor(max_workers=jobs, mp_context=ctx) as pool:
-            futures = {pool.submit(_timed, preds[i]): i for i in todo}
-            for fut in cf.as_completed(futures):
-                finish(futures[fut], *fut.result())
+    records = cached_map(
+        preds,
+        run_prediction,
+        KIND,
+        store,
+        jobs=jobs,
+        on_stale=on_stale,
+        compute=compute,
+        progress=False,
+        log=log,
+        show="kappa3_ref",
+        command="dyntorsion linear",
+    )
     rows = []
-    for i, pred in enumerate(preds):
-        res = records[i]["result"]
+    for pred, (rec, _) in zip(preds, records, strict=True):
+        res, sc = rec["result"], pred.scene
         rows.append(
             {
-                "a": pred.scene.a,
-                "kappa0": pred.scene.kappa0,
-                "seed": pred.scene.seed.magnitude,
-                "seed_form": pred.scene.seed.form,
-                "location": pred.scene.seed.location,
+                "a": sc.a,
+                "kappa0": sc.kappa0,
+                "seed": sc.seed.magnitude,
+                "seed_form": sc.seed.form,
+                "location": sc.seed.location,
                 "waves": pred.waves,
                 "spin": pred.spin,
                 "rotary_inertia": pred.rotary_inertia,
                 "modes": pred.modes,
                 "t_ref": np.nan if res["t_ref"] is None else res["t_ref"],
                 "kappa3_ref": np.nan if res["kappa3_ref"] is None else res["kappa3_ref"],
-                "wall_time_s": records[i]["provenance"].get("wall_time_s"),
+                "wall_time_s": rec["provenance"].get("wall_time_s"),
             }
         )
     return pd.DataFrame(rows)

@@ -68,7 +68,7 @@ _LINEAR = (
 #: the code behind records of other kinds (default: FINGERPRINTED)
 KIND_CODE: dict[str, tuple[str, ...]] = {
     "linear-onset": _LINEAR,
-    "onset-trace": FINGERPRINTED + _LINEAR[3:] + ("dyntorsion.traces",),
+    "onset-trace": FINGERPRINTED + ("dyntorsion.linear_stability", "dyntorsion.traces"),
 }
 
 ON_STALE = ("recompute", "error", "accept")

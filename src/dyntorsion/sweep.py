@@ -26,7 +26,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from .buckling import Perturbation, critical_twist, detect_onset, simulate
+from .buckling import BucklingRun, Perturbation, critical_twist, detect_onset, simulate
 from .genalpha import Newton, Scheme
 from .model import Cosserat
 from .results import Store, digest
@@ -36,6 +36,8 @@ __all__ = [
     "Scene",
     "run_scene",
     "run_sweep",
+    "simulate_scene",
+    "cached_map",
     "MissingResultError",
     "KIND",
     "DATA",
@@ -154,15 +156,16 @@ class Scene:
         )
 
 
-def run_scene(scene: Scene) -> dict[str, Any]:
-    """Simulate one scene and detect its onset (section 6): a JSON-ready dict."""
-    run = simulate(
+def simulate_scene(scene: Scene, t_end: float | None = None) -> BucklingRun:
+    """:func:`~dyntorsion.buckling.simulate` with everything ``scene`` sets, to ``t_end``
+    (default: the scene's own duration); a Newton failure ends the run."""
+    return simulate(
         scene.rod,
         a=scene.a,
         kappa0=scene.kappa0,
         n_cells=scene.n_cells,
         dt=scene.dt,
-        t_end=scene.duration(),
+        t_end=scene.duration() if t_end is None else t_end,
         perturbation=scene.seed,
         scheme=scene.scheme,
         newton=scene.newton,
@@ -171,6 +174,11 @@ def run_scene(scene: Scene) -> dict[str, Any]:
         terms=dict(scene.terms),
         rotary_inertia_scale=scene.rotary_inertia_scale,
     )
+
+
+def run_scene(scene: Scene) -> dict[str, Any]:
+    """Simulate one scene and detect its onset (section 6): a JSON-ready dict."""
+    run = simulate_scene(scene)
     out: dict[str, Any] = {
         "stopped": run.stopped,
         "steps": int(run.t.size - 1),
@@ -203,9 +211,9 @@ def run_scene(scene: Scene) -> dict[str, Any]:
     return out
 
 
-def _timed(scene: Scene) -> tuple[dict[str, Any], float]:
+def _timed(run: Callable[[Any], dict[str, Any]], item: Any) -> tuple[dict[str, Any], float]:
     start = time.perf_counter()
-    result = run_scene(scene)
+    result = run(item)
     return result, time.perf_counter() - start
 
 
@@ -264,31 +272,73 @@ def run_sweep(
     :meth:`~dyntorsion.results.Store.load`; ``compute=False`` only reads, and
     raises :class:`MissingResultError` for any scene the store lacks.
     """
+    records = cached_map(
+        scenes,
+        run_scene,
+        KIND,
+        store,
+        executor=executor,
+        jobs=jobs,
+        on_stale=on_stale,
+        compute=compute,
+        progress=progress,
+        log=log,
+        show="kappa3",
+        command="dyntorsion sweep",
+    )
+    return pd.DataFrame([_row(scenes[i], *records[i]) for i in range(len(scenes))])
+
+
+def cached_map(
+    items: Sequence[Any],
+    run: Callable[[Any], dict[str, Any]],
+    kind: str,
+    store: Store | str | Path | None = None,
+    *,
+    executor: cf.Executor | None = None,
+    jobs: int = 1,
+    on_stale: str = "recompute",
+    compute: bool = True,
+    progress: bool | None = None,
+    log: Callable[[str], None] | None = None,
+    show: str | None = None,
+    command: str = "dyntorsion sweep",
+) -> list[tuple[dict[str, Any], bool]]:
+    """(record, cached) for each item, in order: the machinery behind :func:`run_sweep`.
+
+    Each item has ``params()`` (the cache key, with ``kind``) and ``label()``;
+    ``run(item)`` (a module-level function, so processes can receive it) returns the
+    JSON-ready result.  Records in ``store`` (default :data:`DATA`) are read; the
+    others run on ``executor``, or on ``jobs`` local processes (``jobs=1``: here),
+    and each is written the moment it finishes.  ``show`` names a result entry for
+    the log line; ``command`` is the one the missing-result error recommends.
+    """
     store = Store(DATA if store is None else store) if not isinstance(store, Store) else store
     if not isinstance(jobs, int) or jobs < 1:
         raise ValueError(f"jobs={jobs!r} must be an integer >= 1")
     say = log or (lambda msg: None)
     records: dict[int, tuple[dict[str, Any], bool]] = {}
     todo: list[int] = []
-    for i, scene in enumerate(scenes):
-        rec = store.load(KIND, scene.params(), on_stale=on_stale)
+    for i, item in enumerate(items):
+        rec = store.load(kind, item.params(), on_stale=on_stale)
         if rec is None:
-            if store.path(KIND, scene.params()).exists():
-                say(f"stale, recomputing: {scene.label()}")
+            if store.path(kind, item.params()).exists():
+                say(f"stale, recomputing: {item.label()}")
             todo.append(i)
         else:
             records[i] = (rec, True)
     if todo and not compute:
-        missing = "\n  ".join(scenes[i].label() for i in todo)
+        missing = "\n  ".join(items[i].label() for i in todo)
         raise MissingResultError(
-            f"{len(todo)} scene(s) are not in {store.root}:\n  {missing}\n"
-            "compute them with `make data` (or `dyntorsion sweep`)"
+            f"{len(todo)} {kind} record(s) are not in {store.root}:\n  {missing}\n"
+            f"compute them with `make data` (or `{command}`)"
         )
 
     def finish(i: int, result: dict[str, Any], wall: float) -> None:
-        path = store.save(KIND, scenes[i].params(), result, wall_time=wall)
+        path = store.save(kind, items[i].params(), result, wall_time=wall)
         records[i] = (store.read(path), False)
-        say(f"done in {wall:.1f} s: {scenes[i].label()} -> kappa3 = {result['kappa3']}")
+        tail = f" -> {show} = {result[show]}" if show else ""
+        say(f"done in {wall:.1f} s: {items[i].label()}{tail}")
 
     bar = None
     if todo and (progress or progress is None):
@@ -298,7 +348,7 @@ def run_sweep(
     try:
         if executor is None and jobs == 1:
             for i in todo:
-                finish(i, *_timed(scenes[i]))
+                finish(i, *_timed(run, items[i]))
                 if bar is not None:
                     bar.update()
         elif todo:
@@ -308,7 +358,7 @@ def run_sweep(
             )
             futures: dict[cf.Future, int] = {}
             try:
-                futures = {pool.submit(_timed, scenes[i]): i for i in todo}
+                futures = {pool.submit(_timed, run, items[i]): i for i in todo}
                 for fut in cf.as_completed(futures):
                     finish(futures[fut], *fut.result())
                     if bar is not None:
@@ -323,7 +373,7 @@ def run_sweep(
     finally:
         if bar is not None:
             bar.close()
-    return pd.DataFrame([_row(scenes[i], *records[i]) for i in range(len(scenes))])
+    return [records[i] for i in range(len(items))]
 
 
 # ----------------------------------------------------------------- presets

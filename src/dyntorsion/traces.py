@@ -14,10 +14,9 @@ from typing import Any
 
 import numpy as np
 
-from .buckling import simulate
 from .linear_stability import LateralModel
 from .results import Store
-from .sweep import DATA, Scene
+from .sweep import DATA, Scene, simulate_scene
 
 __all__ = ["KIND", "SCENES", "compare", "load"]
 
@@ -41,19 +40,7 @@ def compare(scene: Scene, modes: int = 16, samples: int = 1200) -> dict[str, Any
         scene.a, scene.kappa0, scene.seed, u_ref=30 * u_ref
     )
     t_stop = 1.1 * lin.t_ref + 1.0
-    run = simulate(
-        scene.rod,
-        a=scene.a,
-        kappa0=scene.kappa0,
-        n_cells=scene.n_cells,
-        dt=scene.dt,
-        t_end=t_stop,
-        perturbation=scene.seed,
-        scheme=scene.scheme,
-        newton=scene.newton,
-        progress=False,
-        on_failure="return",
-    )
+    run = simulate_scene(scene, t_end=t_stop)
     t = np.linspace(0.0, min(run.t[-1], lin.t[-1]), samples)
     return {
         "t": t,
