@@ -118,8 +118,97 @@ def test_fingerprint_ignores_docstrings_and_comments_but_not_code():
     )
     assert dump(base) != dump('def f(x):\n    """Eq (33)."""\n    return 3 * x\n')
     assert R._source_digest("dyntorsion.results") == R._source_digest("dyntorsion.results")
-    assert R.code_fingerprint() == R.code_fingerprint(R.FINGERPRINTED)
-    assert R.code_fingerprint(R.FINGERPRINTED[:-1]) != R.code_fingerprint()
+    assert R.code_fingerprint() == R.code_fingerprint(R.DEFAULT_ROOTS)
+    assert R.code_fingerprint(R.DEFAULT_ROOTS[:-1]) != R.code_fingerprint()
+
+
+def test_fingerprint_reaches_what_the_old_hand_list_missed():
+    """The functions issue 14 found outside the hand-kept list are on the derived path."""
+    reached = R.reachable(R.KIND_ROOTS["buckling-onset"])
+    for name in (
+        "dyntorsion.sweep:simulate_scene",
+        "dyntorsion.statics:critical_moment",
+        "dyntorsion.statics:critical_twist",
+        "dyntorsion.buckling:detect_onset",
+        "dyntorsion.genalpha:integrate",
+        "dyntorsion.model:load_vector",  # a compiled kernel, by its Python source
+        "dyntorsion._abd:factor",
+        "dyntorsion.loading",
+    ):
+        assert name in reached, name
+    assert not any(n.startswith("dyntorsion.results") for n in reached)
+    assert not any(n.startswith("dyntorsion.cli") for n in reached)
+
+
+def test_fingerprint_covers_every_function_a_record_runs():
+    """Trace a small buckling record's computation: every package function executed is
+    inside a definition the fingerprint covers."""
+    import sys
+
+    from dyntorsion.sweep import Scene, run_scene
+
+    scene = Scene(a=16.0, kappa0=10.0, n_cells=8, dt=0.02, t_end=0.4)
+    executed: set[tuple[str, str]] = set()
+
+    def tracer(frame, event, arg):
+        if event == "call":
+            mod = frame.f_globals.get("__name__", "")
+            generated = not frame.f_code.co_filename.endswith(".py")  # dataclass methods
+            if mod.startswith("dyntorsion") and mod != "dyntorsion.results" and not generated:
+                executed.add((mod, frame.f_code.co_qualname))
+
+    sys.setprofile(tracer)
+    try:
+        run_scene(scene)
+    finally:
+        sys.setprofile(None)
+    reached = R.reachable(R.KIND_ROOTS["buckling-onset"])
+    modules = {n for n in reached if ":" not in n}
+    assert executed
+    for mod, qual in executed:
+        parts = qual.replace(".<locals>", "").split(".")
+        prefixes = {f"{mod}:{'.'.join(parts[:i])}" for i in range(1, len(parts) + 1)}
+        assert mod in modules or prefixes & set(reached), f"{mod}:{qual} is not fingerprinted"
+
+
+def test_editing_any_function_on_the_path_changes_the_fingerprint(tmp_path, monkeypatch):
+    """A package of three modules: the root calls a helper in another module, which reads
+    a module constant; an unrelated function sits beside them.  Editing the helper or the
+    constant changes the fingerprint; editing the unrelated function does not."""
+    import importlib
+    import sys
+
+    pkg = tmp_path / "fp_walk"
+    pkg.mkdir()
+    (pkg / "__init__.py").write_text("")
+    files = {
+        "a.py": "from .b import helper\n\n\ndef root(x):\n    return helper(x) + 1\n",
+        "b.py": "SCALE = 2.0\n\n\ndef helper(x):\n    return SCALE * x\n\n\n"
+        "def unrelated(x):\n    return x\n",
+    }
+    for name, text in files.items():
+        (pkg / name).write_text(text)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    monkeypatch.setattr(R, "PACKAGE", "fp_walk")
+
+    def fingerprint():
+        for m in ("fp_walk.a", "fp_walk.b"):
+            sys.modules.pop(m, None)
+        R._module_tree.cache_clear()
+        importlib.invalidate_caches()
+        return R.fingerprint_of(R.reachable(("fp_walk.a:root",)))
+
+    base = fingerprint()
+    assert set(R.reachable(("fp_walk.a:root",))) == {
+        "fp_walk.a:root",
+        "fp_walk.b:helper",
+        "fp_walk.b:SCALE=",
+    }
+    (pkg / "b.py").write_text(files["b.py"].replace("return x\n", "return -x\n"))
+    assert fingerprint() == base
+    for old, new in (("return SCALE * x", "return SCALE * x * x"), ("SCALE = 2.0", "SCALE = 3.0")):
+        (pkg / "b.py").write_text(files["b.py"].replace(old, new))
+        assert fingerprint() != base, old
 
 
 def test_fingerprint_ignores_import_order(tmp_path, monkeypatch):

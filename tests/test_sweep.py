@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 from dyntorsion import Rod
+from dyntorsion import genalpha as ga
 from dyntorsion import results as R
 from dyntorsion import sweep as S
 from dyntorsion.buckling import Perturbation, critical_twist
@@ -62,22 +63,92 @@ def test_scene_horizon_rule():
     assert S.Scene(a=1.6, t_end=7.0).duration() == 7.0
 
 
+def _pulse(t, width):
+    return 10.0 + np.tanh(t / width)
+
+
+def _pulse_edited(t, width):
+    return 10.0 + 2 * np.tanh(t / width)
+
+
 def test_scene_params_name_everything():
+    """Each parameter that changes the result, changed alone, gives a new cache key."""
+    from dyntorsion.loading import AxialLoad, Custom, Ends, Polynomial, RampHold, Tabulated
+    from dyntorsion.rod import Section
+
+    T = 5.0  # for scenes with another history or ends, which need an explicit t_end
+    props = dict(
+        L=1.0, B1=6e-7, B2=7e-7, C=5e-7, mass_per_length=1.2e-3,
+        rotary_inertia=(7e-11, 8e-11, 1.5e-10), thickness=1e-3,
+    )  # fmt: skip
     base = S.Scene(a=1.6)
-    variants = [
-        S.Scene(a=1.6, kappa0=0.0),
-        S.Scene(a=1.6, rod=Rod(rho=5000.0)),
-        S.Scene(a=1.6, seed=Perturbation(1e-17)),
-        S.Scene(a=1.6, n_cells=200),
-        S.Scene(a=1.6, dt=0.0025),
-        S.Scene(a=1.6, window=(0.2, 0.5)),
-        S.Scene(a=1.6, t_end=30.0),
-        S.Scene(a=1.7),
-    ]
-    keys = {R.key(S.KIND, sc.params()) for sc in [base, *variants]}
-    assert len(keys) == len(variants) + 1
+    variants = {
+        "kappa0": S.Scene(a=1.6, kappa0=0.0),
+        "a": S.Scene(a=1.7),
+        **{f"rod.{k}": S.Scene(a=1.6, rod=Rod().with_(**{k: v}))
+           for k, v in dict(E=1.3e7, nu=0.3, D=1.1e-3, L=1.1, rho=5000.0).items()},
+        "ellipse": S.Scene(a=1.6, rod=Rod.elliptic(a=0.55e-3, b=0.5e-3)),
+        "ellipse.a": S.Scene(a=1.6, rod=Rod.elliptic(a=0.56e-3, b=0.5e-3)),
+        "ellipse.b": S.Scene(a=1.6, rod=Rod.elliptic(a=0.55e-3, b=0.51e-3)),
+        "ellipse turned": S.Scene(a=1.6, rod=Rod.elliptic(a=0.5e-3, b=0.55e-3)),
+        "rectangle": S.Scene(a=1.6, rod=Rod.rectangular(w=1e-3, h=0.9e-3)),
+        "given": S.Scene(a=1.6, rod=Rod.from_properties(**props)),
+        **{f"given.{k}": S.Scene(a=1.6, rod=Rod.from_properties(**(props | {k: v})))
+           for k, v in dict(B1=6.1e-7, B2=7.1e-7, C=5.1e-7, mass_per_length=1.3e-3,
+                            rotary_inertia=(7e-11, 8e-11, 1.6e-10), thickness=2e-3).items()},
+        "polynomial": S.Scene(history=Polynomial((10.0, 1.6)), t_end=T),
+        "polynomial'": S.Scene(history=Polynomial((10.0, 1.6, 0.1)), t_end=T),
+        "ramp-hold": S.Scene(history=RampHold(a=1.6, hold=20.0, kappa0=10.0), t_end=T),
+        "ramp-hold.hold": S.Scene(history=RampHold(a=1.6, hold=21.0, kappa0=10.0), t_end=T),
+        "ramp-hold.tau": S.Scene(history=RampHold(a=1.6, hold=20.0, kappa0=10.0, tau=1.0), t_end=T),
+        "tabulated": S.Scene(history=Tabulated((0.0, 1.0), (10.0, 12.0)), t_end=T),
+        "tabulated'": S.Scene(history=Tabulated((0.0, 1.0), (10.0, 12.5)), t_end=T),
+        "custom": S.Scene(history=Custom("pulse", _pulse, {"width": 1.0}), t_end=T),
+        "custom.param": S.Scene(history=Custom("pulse", _pulse, {"width": 2.0}), t_end=T),
+        "custom.name": S.Scene(history=Custom("pulse2", _pulse, {"width": 1.0}), t_end=T),
+        "custom.code": S.Scene(history=Custom("pulse", _pulse_edited, {"width": 1.0}), t_end=T),
+        "tension": S.Scene(a=1.6, tension=1e-6),
+        "compression": S.Scene(a=1.6, tension=-1e-6),
+        "tension rate": S.Scene(a=1.6, tension=AxialLoad(0.0, 1e-7), t_end=T),
+        "ends": S.Scene(a=1.6, ends="clamped-free-lateral", t_end=T),
+        "ends object": S.Scene(
+            a=1.6, t_end=T,
+            ends=Ends("mine", ("u1", "u2", "u3", "w1", "w2", "k3"), ("w1", "w2", "w3", "n1", "u2", "n3")),
+        ),  # fmt: skip
+        "terms": S.Scene(a=1.6, terms=(("gyro", 0.0),)),
+        "terms weight": S.Scene(a=1.6, terms=(("gyro", 0.5),)),
+        "rotary": S.Scene(a=1.6, rotary_inertia_scale=0.1),
+        "seed": S.Scene(a=1.6, seed=Perturbation(1e-17)),
+        "seed form": S.Scene(a=1.6, seed=Perturbation(1e-8, "point")),
+        "seed place": S.Scene(a=1.6, seed=Perturbation(1e-8, "point", 0.4)),
+        "seed direction": S.Scene(a=1.6, seed=Perturbation(1e-8, direction=(0.0, 1.0, 0.0))),
+        "n_cells": S.Scene(a=1.6, n_cells=200),
+        "dt": S.Scene(a=1.6, dt=0.0025),
+        "t_end": S.Scene(a=1.6, t_end=30.0),
+        "horizon": S.Scene(a=1.6, horizon=2.0),
+        "quadrature": S.Scene(a=1.6, scheme=ga.Scheme(quadrature="midpoint")),
+        "lam_t": S.Scene(a=1.6, scheme=ga.Scheme(lam_t=-0.5)),
+        "newton": S.Scene(a=1.6, newton=ga.Newton(tol=1e-8)),
+        "window": S.Scene(a=1.6, window=(0.2, 0.5)),
+        "variations": S.Scene(a=1.6, variations=((0.05, 0.3),)),
+    }
+    keys = {name: R.key(S.KIND, sc.params()) for name, sc in variants.items()}
+    keys["base"] = R.key(S.KIND, base.params())
+    same = [n for n in keys if list(keys.values()).count(keys[n]) > 1]
+    assert not same, f"these scenes share a key: {same}"
     assert S.Scene(a=1.6).params() == base.params()
-    assert S.Scene(a=2).params()["a"] == 2.0 and isinstance(S.Scene(a=2).a, float)
+    assert S.Scene(a=2).params()["history"]["a"] == 2.0 and isinstance(S.Scene(a=2).a, float)
+    # the same scene spelled two ways has one key
+    assert S.Scene(a=1.6, terms={"gyro": 0.0, "wxu": 1.0}).params() == S.Scene(
+        a=1.6, terms=(("wxu", 1.0), ("gyro", 0.0))
+    ).params()
+    assert S.Scene(a=1.6, tension=0.0).params() == base.params()
+    assert S.Scene(a=1.6, rod=Rod(section=Section.circle(1e-3), D=None)).params() == base.params()
+
+
+def test_a_switch_given_twice_is_refused_not_keyed_as_another():
+    with pytest.raises(ValueError, match="gyro.*more than once"):
+        S.Scene(a=1.6, terms=(("gyro", 2.0), ("gyro", 0.0)))
 
 
 def test_presets():
@@ -243,11 +314,11 @@ def test_python_m_entry_point():
 
 def test_model_switches_name_the_scene_and_reach_the_model():
     base = S.Scene(a=10.0, **COARSE)
-    assert "model" not in base.params()  # default scenes keep their cache keys
+    assert base.params()["model"] == {"terms": {}, "rotary_inertia_scale": 1.0}
     gyro = S.Scene(a=10.0, terms=(("gyro", 0.0),), **COARSE)
     heavy = S.Scene(a=10.0, rotary_inertia_scale=10.0, **COARSE)
-    assert gyro.params()["model"] == {"terms": {"gyro": 0.0}}
-    assert heavy.params()["model"] == {"rotary_inertia_scale": 10.0}
+    assert gyro.params()["model"] == {"terms": {"gyro": 0.0}, "rotary_inertia_scale": 1.0}
+    assert heavy.params()["model"] == {"terms": {}, "rotary_inertia_scale": 10.0}
     assert len({R.key(S.KIND, sc.params()) for sc in (base, gyro, heavy)}) == 3
     with pytest.raises(ValueError, match="terms"):
         S.Scene(a=10.0, terms=(("spin", 0.0),))

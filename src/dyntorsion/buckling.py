@@ -1,5 +1,7 @@
-"""Torsional buckling (section 6): the static critical twist (eqs 31-32), the
-dynamic buckling scene (boundary conditions of eq 30) and the onset of buckling.
+"""Torsional buckling (section 6): the dynamic buckling scene (boundary conditions of
+eq 30, or any end set, twist history and axial load of :mod:`dyntorsion.loading`), the
+onset of buckling and the delay law (eqs 33-34).  The static critical twist (eqs 31-32)
+lives in :mod:`dyntorsion.statics` and is re-exported here.
 """
 
 from __future__ import annotations
@@ -10,16 +12,23 @@ from collections.abc import Mapping, Sequence
 from dataclasses import asdict, dataclass, field
 from typing import Any
 
-import mpmath
 import numpy as np
-import scipy.linalg
 
 from . import shapes
-from .genalpha import Boundary, ConvergenceError, Newton, Run, Scheme, integrate
+from .genalpha import ConvergenceError, Newton, Run, Scheme, integrate
+from .loading import AxialLoad, Ends, History, Ramp, ends as _ends
 from .model import Cosserat
 from .rod import Rod
+from .statics import (
+    M_CRI_MP,
+    critical_moment,
+    critical_twist,
+    critical_twist_numerical,
+    m_cri,
+)
 
 __all__ = [
+    "M_CRI_MP",
     "m_cri",
     "critical_moment",
     "critical_twist",
@@ -27,72 +36,13 @@ __all__ = [
     "Perturbation",
     "BucklingRun",
     "simulate",
+    "GridWarning",
+    "check_grid",
     "Onset",
     "detect_onset",
     "PowerLawFit",
     "fit_power_law",
 ]
-
-
-def _m_cri(digits: int = 40) -> mpmath.mpf:
-    """Smallest nonzero root of tan(pi m) = pi m (between 1 and 3/2)."""
-    with mpmath.workdps(digits):
-        return mpmath.findroot(
-            lambda m: mpmath.sin(mpmath.pi * m) - mpmath.pi * m * mpmath.cos(mpmath.pi * m),
-            mpmath.mpf("1.43"),
-        )
-
-
-#: the nondimensional critical moment of eq (31), to 40 digits (mpmath)
-M_CRI_MP = _m_cri()
-m_cri = float(M_CRI_MP)
-
-
-def critical_moment(rod: Rod) -> float:
-    """M_cri = 2 pi E I1 m_cri / L (eq 31)."""
-    return 2 * math.pi * rod.E * rod.I1 * m_cri / rod.L
-
-
-def critical_twist(rod: Rod) -> float:
-    """kappa_cri = M_cri / (G J) (eq 32); 11.2335 1/m for Table 1."""
-    return critical_moment(rod) / rod.C
-
-
-def _cheb(n: int) -> tuple[np.ndarray, np.ndarray]:
-    """Chebyshev points on [-1, 1] (descending) and the differentiation matrix (Trefethen)."""
-    x = np.cos(np.pi * np.arange(n + 1) / n)
-    c = np.r_[2.0, np.ones(n - 1), 2.0] * (-1.0) ** np.arange(n + 1)
-    X = np.tile(x, (n + 1, 1)).T
-    dX = X - X.T
-    D = np.outer(c, 1.0 / c) / (dX + np.eye(n + 1))
-    D -= np.diag(D.sum(axis=1))
-    return x, D
-
-
-def critical_twist_numerical(rod: Rod, n: int = 40) -> float:
-    """Independent check of eq (32): the smallest twist at which the static linearised
-    Kirchhoff equations of the straight twisted rod have a nontrivial solution.
-
-    Lateral displacement w = x + i y, moment M = C kappa3: B w'''' - i M w''' = 0 with
-    the boundary conditions of eq (30) in statics: w = w' = 0 at both ends (position
-    and tangent held at s = 0; tangent and lateral position held at s = L, axial
-    sliding free).  Chebyshev collocation turns this into a generalised eigenproblem
-    for M.
-    """
-    x, D = _cheb(n)
-    D = D * (2.0 / rod.L)  # s = L (1 - x) / 2 maps x = 1 to s = 0; the sign of D is immaterial
-    D3, D4 = D @ D @ D, D @ D @ D @ D
-    A = rod.B1 * D4.astype(complex)
-    Bm = 1j * D3
-    rows = [0, n, 1, n - 1]  # replace two rows at each end by the boundary conditions
-    bc = [np.eye(n + 1)[0], np.eye(n + 1)[n], D[0], D[n]]
-    for r, b in zip(rows, bc, strict=True):
-        A[r] = b
-        Bm[r] = 0.0
-    vals = scipy.linalg.eigvals(A, Bm)
-    vals = vals[np.isfinite(vals)]
-    real = vals[(np.abs(vals.imag) < 1e-6 * np.abs(vals)) & (np.abs(vals.real) > 0)]
-    return float(np.min(np.abs(real.real))) / rod.C
 
 
 # ================================================================= the buckling scene
@@ -151,6 +101,17 @@ class BucklingRun:
     run: Run
     rod: Rod
     params: dict[str, Any] = field(default_factory=dict)
+    history: History | None = None
+    load: AxialLoad | None = None
+    ends: Ends | None = None
+
+    def end_twist(self, t: float | np.ndarray) -> float | np.ndarray:
+        """kappa3(0, t) imposed by the run's history (interpolated from the recorded
+        kappa3(0, t) when the run carries no history)."""
+        if self.history is not None:
+            out = self.history(t)
+            return float(out) if np.ndim(out) == 0 else out
+        return np.interp(t, self.t, self.kappa3_left)
 
     @property
     def stopped(self) -> str:
@@ -166,14 +127,60 @@ class BucklingRun:
         return ts, shapes.shape(self.run.snapshots[i], ds, theta)
 
 
+class GridWarning(UserWarning):
+    """A time step far outside the range the buckling scene was tested on."""
+
+
+#: the buckling grids the accuracy ladder tested (Fig 8 and the fast scene): time step
+#: over the bending time T0, and Courant number c dt / ds of the torsional waves
+TESTED_DT_OVER_T0 = (0.00125 / 43.8178046004133, 0.02 / 43.8178046004133)
+TESTED_COURANT = (1.8, 462.0)
+
+
+def check_grid(rod: Rod, n_cells: int, dt: float) -> None:
+    """Warn (:class:`GridWarning`) when dt exceeds ten times the largest tested step, in
+    units of the rod's own bending time T0 or of its torsional transit per cell."""
+    ratio, courant = dt / rod.T0, rod.c * dt * n_cells / rod.L
+    if ratio > 10 * TESTED_DT_OVER_T0[1] or courant > 10 * TESTED_COURANT[1]:
+        warnings.warn(
+            f"dt={dt:.3g} s is {ratio:.3g} T0 (bending time {rod.T0:.3g} s) at Courant number "
+            f"{courant:.3g}: the buckling scene was tested up to {TESTED_DT_OVER_T0[1]:.3g} T0 "
+            f"and Courant {TESTED_COURANT[1]:g}; use dyntorsion.fidelity.get('buckling', level, rod)",
+            GridWarning,
+            stacklevel=3,
+        )
+
+
+def _history(a: float | None, kappa0: float, history: History | None) -> History:
+    if history is None:
+        if a is None:
+            raise ValueError("give the loading rate a (the paper's ramp) or a history")
+        for name, value in (("a", a), ("kappa0", kappa0)):
+            if not math.isfinite(value):
+                raise ValueError(f"{name}={value!r} must be finite")
+        return Ramp(a=a, kappa0=kappa0)
+    if not isinstance(history, History):
+        raise TypeError(f"history={history!r} must be a dyntorsion.loading.History")
+    if a is not None or kappa0 != 0.0:
+        raise ValueError("give either a (and kappa0) or a history, not both")
+    return history
+
+
+def _load(tension: float | AxialLoad) -> AxialLoad:
+    return tension if isinstance(tension, AxialLoad) else AxialLoad(T=tension)
+
+
 def simulate(
     rod: Rod | None = None,
     *,
-    a: float,
+    a: float | None = None,
     kappa0: float = 0.0,
     n_cells: int,
     dt: float,
     t_end: float,
+    history: History | None = None,
+    tension: float | AxialLoad = 0.0,
+    ends: str | Ends = "clamped",
     perturbation: float | Perturbation = 1e-8,
     scheme: Scheme = Scheme(),
     newton: Newton = Newton(),
@@ -185,19 +192,23 @@ def simulate(
     terms: Mapping[str, float] | None = None,
     rotary_inertia_scale: float = 1.0,
 ) -> BucklingRun:
-    """Run the buckling scene of section 6.
+    """Run the buckling scene of section 6, or any extension of it.
 
-    Table 1 rod (or ``rod``), boundary conditions of eq (30) with
-    kappa3(0, t) = kappa0 + a t, initial state y = 0 except k3 = kappa0 (a straight
-    rod pretwisted without stress in bending), and a constant seed force
-    ``perturbation`` (N/m along the rod in d1, or a :class:`Perturbation`).  With
-    no seed (magnitude 0) the straight rod is an exact solution of the discrete
-    equations and the run stays straight to round-off.
+    Table 1 rod (or ``rod``, any section), end conditions ``ends`` (default
+    ``"clamped"``: eq 30; see :data:`dyntorsion.loading.ENDS`), end twist
+    kappa3(0, t) = kappa0 + a t (the paper) or ``history`` (a
+    :class:`~dyntorsion.loading.History`), axial end load ``tension`` [N] (a number or
+    an :class:`~dyntorsion.loading.AxialLoad`; positive = tension), initial state y = 0
+    except k3 = kappa3(0, 0) and n3 = T(0) (a straight rod pretwisted without stress in
+    bending, in equilibrium under the axial load), and a constant seed force
+    ``perturbation`` (N/m along the rod in d1, or a :class:`Perturbation`).  With no
+    seed (magnitude 0) the straight rod is an exact solution of the discrete equations
+    and the run stays straight to round-off.
 
     The run ends at ``t_end`` or, with ``stop_at_contact``, at the first check
     (every ``check_every`` steps, default about every 0.1 s of simulated time)
-    at which two non-neighbouring parts of the centreline come closer than D;
-    ``result.stopped`` says which ("t_end" or "self-contact ...").
+    at which two non-neighbouring parts of the centreline come closer than the
+    rod's thickness; ``result.stopped`` says which ("t_end" or "self-contact ...").
 
     Past the onset the rod whips round violently; a Newton failure there raises
     :class:`~dyntorsion.genalpha.ConvergenceError` (``on_failure="raise"``), or, with
@@ -206,14 +217,15 @@ def simulate(
 
     ``terms`` and ``rotary_inertia_scale`` are passed to
     :class:`~dyntorsion.model.Cosserat`: switch single mechanisms off (e.g.
-    ``{"gyro": 0.0}``) or scale the bending rotary inertia.
+    ``{"gyro": 0.0}``) or scale the bending rotary inertia.  A time step far outside
+    the tested range for this rod warns (:class:`GridWarning`).
     """
     if on_failure not in ("raise", "return"):
         raise ValueError(f"on_failure={on_failure!r}; allowed: 'raise', 'return'")
     rod = Rod.paper() if rod is None else rod
-    for name, value in (("a", a), ("kappa0", kappa0)):
-        if not math.isfinite(value):
-            raise ValueError(f"{name}={value!r} must be finite")
+    hist = _history(a, kappa0, history)
+    load = _load(tension)
+    end_set = _ends(ends)
     if not isinstance(perturbation, Perturbation):
         perturbation = Perturbation(magnitude=float(perturbation))
     model = Cosserat(rod, terms=dict(terms or {}), rotary_inertia_scale=rotary_inertia_scale)
@@ -221,20 +233,17 @@ def simulate(
     if not isinstance(n_cells, int | np.integer) or n_cells < 2:
         raise ValueError(f"n_cells={n_cells!r} must be an integer >= 2")
     n_cells = int(n_cells)
+    check_grid(rod, n_cells, dt)
     s = np.linspace(0.0, rod.L, n_cells + 1)
     ds = rod.L / n_cells
     y0 = np.zeros((n_cells + 1, 12))
-    y0[:, system.index("k3")] = kappa0
-    left = Boundary.fields(
-        system,
-        ["u1", "u2", "u3", "w1", "w2", "k3"],
-        lambda t: np.outer(kappa0 + a * t, [0, 0, 0, 0, 0, 1]),
-    )
-    right = Boundary.fields(system, ["w1", "w2", "w3", "u1", "u2", "n3"])
+    y0[:, system.index("k3")] = hist(np.zeros(1))[0]
+    y0[:, system.index("n3")] = load(np.zeros(1))[0]
+    left, right = end_set.rows(system, hist, load)
     q = model.external_force(perturbation.force(s, rod.L))
 
     def contact(t, y):
-        hit = shapes.self_contact(shapes.shape(y, ds), rod.D)
+        hit = shapes.self_contact(shapes.shape(y, ds), rod.thickness)
         if hit is None:
             return None
         d, i, j = hit
@@ -276,8 +285,11 @@ def simulate(
     theta = np.concatenate([[0.0], np.cumsum(0.5 * np.diff(t) * (w0[1:] + w0[:-1]))])
     params = {
         "rod": rod.as_dict(),
-        "a": a,
-        "kappa0": kappa0,
+        "a": hist.rate,
+        "kappa0": hist.kappa0,
+        "history": hist.params(),
+        "load": load.params(),
+        "ends": end_set.params(),
         "n_cells": n_cells,
         "dt": dt,
         "t_end": t_end,
@@ -298,6 +310,9 @@ def simulate(
         run=run,
         rod=rod,
         params=params,
+        history=hist,
+        load=load,
+        ends=end_set,
     )
 
 
@@ -325,7 +340,8 @@ def detect_onset(
     u_ref: float | None = None,
 ) -> Onset:
     """Fit a straight line to the initial dramatic variation of u3(L, t), extrapolate
-    to u3 = 0: t_c and kappa3 = kappa0 + a t_c.
+    to u3 = 0: t_c and the end twist kappa3 = kappa3(0, t_c) of the run's history
+    (kappa0 + a t_c for the paper's ramp).
 
     Window rule (deterministic): ``U = |u3(L, t)|``.  The rise starts when U first
     exceeds ``u_ref`` (default L / T0, T0 = L^2 sqrt(rho A / B1) the bending time
@@ -347,7 +363,7 @@ def detect_onset(
     if not np.any(U > 0):
         raise ValueError("u3(L, t) is identically zero: the rod never left the straight state")
     if u_ref is None:
-        u_ref = float(Cosserat(run.rod).scales()[0][0])  # L / T0
+        u_ref = run.rod.L / run.rod.T0
     above = np.nonzero(U >= u_ref)[0]
     if above.size == 0:
         raise ValueError(
@@ -382,12 +398,20 @@ def detect_onset(
     t_c, slope, intercept = fit(*window)
     var = {tuple(v): fit(*v)[0] for v in variations}
     unc = max((abs(v - t_c) for v in var.values()), default=0.0)
-    a = run.params["a"]
+    a = run.params.get("a")
+    if a is not None and run.history is None:
+        kappa3 = run.params["kappa0"] + a * t_c
+    else:
+        kappa3 = run.end_twist(t_c)
+    if a is not None:
+        unc_k = abs(a) * unc
+    else:
+        unc_k = max((abs(run.end_twist(v) - kappa3) for v in var.values()), default=0.0)
     return Onset(
         t_c=float(t_c),
-        kappa3=float(run.params["kappa0"] + a * t_c),
+        kappa3=float(kappa3),
         uncertainty_t=float(unc),
-        uncertainty_kappa3=float(abs(a) * unc),
+        uncertainty_kappa3=float(unc_k),
         slope=float(slope),
         intercept=float(intercept),
         window=tuple(window),

@@ -233,6 +233,11 @@ class LateralModel:
                 f"quadrature={self.quadrature!r} must be an integer >= 4 modes + 16 = "
                 f"{4 * self.modes + 16}"
             )
+        if not self.rod.isotropic:
+            raise ValueError(
+                "LateralModel covers isotropic sections (B1 = B2: one complex lateral "
+                f"displacement); this rod has B1={self.rod.B1:.6g}, B2={self.rod.B2:.6g}"
+            )
         L = self.rod.L
         x, w, phi, dphi, ddphi, _ = _beam_modes(self.modes, self.quadrature)
         sc = {
@@ -245,8 +250,8 @@ class LateralModel:
         for k, v in sc.items():
             object.__setattr__(self, "_" + k, v)
         r = self.rod
-        rhoI = r.rho * r.I1 if self.rotary_inertia else 0.0
-        object.__setattr__(self, "_rhoJ", r.rho * r.J if self.gyro else 0.0)
+        rhoI = r.rotary_inertia[0] if self.rotary_inertia else 0.0
+        object.__setattr__(self, "_rhoJ", r.rotary_inertia[2] if self.gyro else 0.0)
         M = r.mass_per_length * self._int(self._phi, self._phi)
         M = M + rhoI * self._int(self._dphi, self._dphi)
         object.__setattr__(self, "_M", M)
@@ -368,7 +373,7 @@ class LateralModel:
             seed = Perturbation(magnitude=float(seed))
         base = Prebuckling(self.rod, a, kappa0, waves=waves, spin=spin, terms=terms)
         r = self.rod
-        T0 = r.L**2 * math.sqrt(r.mass_per_length / r.B1)
+        T0 = r.T0
         if u_ref is None:
             u_ref = r.L / T0
         if not (math.isfinite(u_ref) and u_ref > 0):

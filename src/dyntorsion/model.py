@@ -193,9 +193,8 @@ class Cosserat:
         r = self.rod
         sw = [float(self.terms.get(name, 1.0)) for name in TERMS]
         ri = self.rotary_inertia_scale
-        return np.array(
-            [r.rho * r.A, ri * r.rho * r.I1, ri * r.rho * r.I2, r.rho * r.J, r.B1, r.B2, r.C, *sw]
-        )
+        rI1, rI2, rI3 = r.rotary_inertia
+        return np.array([r.mass_per_length, ri * rI1, ri * rI2, rI3, r.B1, r.B2, r.C, *sw])
 
     @property
     def mass_matrix(self) -> np.ndarray:
@@ -219,12 +218,13 @@ class Cosserat:
     def scales(self) -> tuple[np.ndarray, np.ndarray]:
         """Characteristic sizes of the fields and of the rows (bending units).
 
-        Length L, force B1/L^2, time T0 = L^2 sqrt(rho A / B1).  Used to scale the
-        Newton system and as the absolute floor of the convergence test.
+        Length L, force B/L^2, time T0 = L^2 sqrt(rho A / B) (the rod's bending time,
+        B the weaker bending stiffness).  Used to scale the Newton system and as the
+        absolute floor of the convergence test.
         """
         r = self.rod
-        T0 = r.L**2 * np.sqrt(r.mass_per_length / r.B1)
-        F0 = r.B1 / r.L**2
+        T0 = r.T0
+        F0 = r.B / r.L**2
         ys = np.repeat([r.L / T0, 1.0 / T0, 1.0 / r.L, F0], 3)
         rs = np.repeat([F0 / r.L, F0, 1.0 / (r.L * T0), 1.0 / T0], 3)
         return ys, rs

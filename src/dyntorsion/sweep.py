@@ -18,7 +18,7 @@ import concurrent.futures as cf
 import math
 import multiprocessing
 import time
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
@@ -26,7 +26,10 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from .buckling import BucklingRun, Perturbation, critical_twist, detect_onset, simulate
+from .buckling import BucklingRun, Perturbation, _load, detect_onset, simulate
+from .loading import ENDS, AxialLoad, Ends, History, Ramp
+from .loading import ends as _ends
+from .statics import critical_twist
 from .genalpha import Newton, Scheme
 from .model import Cosserat
 from .results import Store, digest
@@ -66,16 +69,25 @@ def paper_law(a: float | np.ndarray, rod: Rod, kappa_cri: float | None = None):
 
 @dataclass(frozen=True)
 class Scene:
-    """One buckling run of section 6 and its onset.
+    """One buckling run and its onset: everything the result depends on, as data.
+
+    The paper's scene is a ramp kappa3(0, t) = kappa0 + a t (``a``; ``kappa0`` default
+    10); any other end twist is a ``history`` (:mod:`dyntorsion.loading`; then ``a`` and
+    ``kappa0`` stay None).  ``tension`` is the axial end load [N] (a number or an
+    :class:`~dyntorsion.loading.AxialLoad`), ``ends`` a named end-condition set or an
+    :class:`~dyntorsion.loading.Ends`; ``terms`` and ``rotary_inertia_scale`` are the
+    model switches of :class:`~dyntorsion.model.Cosserat`.
 
     ``t_end=None`` lets the run last until the twist reaches
-    kappa_cri + ``horizon`` x (the paper's delay at this rate, eq 33-34); the run
-    stops earlier at self-contact or at a Newton failure after the onset.  A run
-    that ends before the onset is reported as such, not hidden.
+    kappa_cri + ``horizon`` x (the paper's delay at this rate, eq 33-34), with kappa_cri
+    the static critical twist of this rod, load and ends; scenes the static theory or
+    the rule does not cover (a non-ramp history, a ramped load, other ends) need an
+    explicit ``t_end``.  The run stops earlier at self-contact or at a Newton failure
+    after the onset.  A run that ends before the onset is reported as such, not hidden.
     """
 
-    a: float
-    kappa0: float = 10.0
+    a: float | None = None
+    kappa0: float | None = None
     rod: Rod = field(default_factory=Rod)
     seed: Perturbation = field(default_factory=Perturbation)
     n_cells: int = 100
@@ -88,22 +100,41 @@ class Scene:
     variations: tuple[tuple[float, float], ...] = ((0.05, 0.3), (0.2, 0.7))
     terms: tuple[tuple[str, float], ...] = ()
     rotary_inertia_scale: float = 1.0
+    history: History | None = None
+    tension: AxialLoad | float = 0.0
+    ends: Ends | str = "clamped"
 
     def __post_init__(self) -> None:
-        if not (math.isfinite(self.a) and self.a > 0):
-            raise ValueError(f"a={self.a!r} must be a finite loading rate > 0 rad/(m s)")
-        if not math.isfinite(self.kappa0):
-            raise ValueError(f"kappa0={self.kappa0!r} must be finite")
+        set_ = object.__setattr__
+        if not isinstance(self.rod, Rod):
+            raise TypeError(f"rod={self.rod!r} must be a dyntorsion.Rod")
+        if self.history is None:
+            if self.a is None:
+                raise ValueError("give the loading rate a (the paper's ramp) or a history")
+            if not (math.isfinite(self.a) and self.a > 0):
+                raise ValueError(f"a={self.a!r} must be a finite loading rate > 0 rad/(m s)")
+            kappa0 = 10.0 if self.kappa0 is None else self.kappa0
+            if not math.isfinite(kappa0):
+                raise ValueError(f"kappa0={kappa0!r} must be finite")
+            set_(self, "a", float(self.a))
+            set_(self, "kappa0", float(kappa0))
+        else:
+            if not isinstance(self.history, History):
+                raise TypeError(f"history={self.history!r} must be a dyntorsion.loading.History")
+            if self.a is not None or self.kappa0 is not None:
+                raise ValueError("give either a (and kappa0) or a history, not both")
         if not isinstance(self.n_cells, int | np.integer) or self.n_cells < 2:
             raise ValueError(f"n_cells={self.n_cells!r} must be an integer >= 2")
         if not (math.isfinite(self.dt) and self.dt > 0):
             raise ValueError(f"dt={self.dt!r} must be > 0")
         if not (math.isfinite(self.horizon) and self.horizon > 0):
             raise ValueError(f"horizon={self.horizon!r} must be > 0")
-        object.__setattr__(self, "a", float(self.a))
-        object.__setattr__(self, "kappa0", float(self.kappa0))
-        object.__setattr__(self, "n_cells", int(self.n_cells))
-        object.__setattr__(self, "dt", float(self.dt))
+        set_(self, "n_cells", int(self.n_cells))
+        set_(self, "dt", float(self.dt))
+        set_(self, "terms", _canonical_terms(self.terms))
+        set_(self, "rotary_inertia_scale", float(self.rotary_inertia_scale))
+        set_(self, "tension", _load(self.tension))
+        set_(self, "ends", _ends(self.ends))
         Cosserat(self.rod, terms=dict(self.terms), rotary_inertia_scale=self.rotary_inertia_scale)
         if self.t_end is not None and not (math.isfinite(self.t_end) and self.t_end > 0):
             raise ValueError(f"t_end={self.t_end!r} must be > 0 (or None for the horizon rule)")
@@ -113,28 +144,53 @@ class Scene:
                 f"{self.kappa0 + self.a * self.duration():.4g}; give t_end"
             )
 
+    @property
+    def twist(self) -> History:
+        """The end-twist history kappa3(0, t) (the ramp kappa0 + a t unless ``history``)."""
+        return self.history if self.history is not None else Ramp(a=self.a, kappa0=self.kappa0)
+
+    def kappa_cri(self) -> float:
+        """The static critical twist of this rod, axial load and ends
+        (:func:`~dyntorsion.statics.critical_twist`); raises where the theory does not
+        reach (ends other than eq 30, a ramped load)."""
+        if (self.ends.left, self.ends.right) != (ENDS["clamped"].left, ENDS["clamped"].right):
+            raise ValueError(
+                f"ends={self.ends.name!r}: no static critical twist (the static theory covers "
+                "the clamped ends of eq 30)"
+            )
+        if self.tension.T_rate != 0.0:
+            raise ValueError("a ramped axial load has no single static critical twist")
+        return critical_twist(self.rod, self.tension.T)
+
     def duration(self) -> float:
         """The run's t_end (explicit, or from the horizon rule)."""
         if self.t_end is not None:
             return float(self.t_end)
-        kc = critical_twist(self.rod)
-        kappa_end = kc + self.horizon * (float(paper_law(self.a, self.rod)) - kc)
+        if self.history is not None:
+            raise ValueError(
+                f"history={self.history.label()}: the horizon rule (t_end=None) needs the "
+                "paper's ramp; give t_end"
+            )
+        try:
+            kc = self.kappa_cri()
+        except ValueError as err:
+            raise ValueError(f"t_end=None (the horizon rule): {err}; give t_end") from None
+        kappa_end = kc + self.horizon * (float(paper_law(self.a, self.rod, kc)) - kc)
         return (kappa_end - self.kappa0) / self.a
 
     def params(self) -> dict[str, Any]:
-        """Everything the result depends on (the cache key).  Model switches appear
-        only when set, so the default scenes keep their keys."""
-        r = self.rod
-        model = {}
-        if self.terms:
-            model["terms"] = {k: float(v) for k, v in sorted(self.terms)}
-        if self.rotary_inertia_scale != 1.0:
-            model["rotary_inertia_scale"] = float(self.rotary_inertia_scale)
-        extra = {"model": model} if model else {}
-        return extra | {
-            "rod": {"E": r.E, "nu": r.nu, "D": r.D, "L": r.L, "rho": r.rho},
-            "a": self.a,
-            "kappa0": self.kappa0,
+        """Everything the result depends on (the cache key), canonical: the rod with its
+        derived section properties, the end twist, the axial load, the end conditions,
+        the model switches, seed, grid, scheme, Newton options and onset rule."""
+        return {
+            "rod": self.rod.params(),
+            "history": self.twist.params(),
+            "load": self.tension.params(),
+            "ends": self.ends.params(),
+            "model": {
+                "terms": dict(self.terms),
+                "rotary_inertia_scale": self.rotary_inertia_scale,
+            },
             "perturbation": asdict(self.seed),
             "n_cells": self.n_cells,
             "dt": self.dt,
@@ -148,12 +204,38 @@ class Scene:
         }
 
     def label(self) -> str:
+        twist = (
+            f"a={self.a:.4g} kappa0={self.kappa0:g}"
+            if self.history is None
+            else self.history.label()
+        )
+        rod = "" if self.rod == Rod(rho=self.rod.rho) else f" rod=[{self.rod.describe()}]"
         return (
-            f"a={self.a:.4g} kappa0={self.kappa0:g} rho={self.rod.rho:g} "
+            f"{twist} rho={self.rod.rho if self.rod.rho is not None else '-'}{rod} "
             f"seed={self.seed.magnitude:g} N={self.n_cells} dt={self.dt:g}"
+            + (f" T={self.tension.T:g}" if self.tension.T else "")
+            + (f" T_rate={self.tension.T_rate:g}" if self.tension.T_rate else "")
+            + (f" ends={self.ends.name}" if self.ends.name != "clamped" else "")
             + "".join(f" {k}={v:g}" for k, v in self.terms)
             + (f" rotary={self.rotary_inertia_scale:g}" if self.rotary_inertia_scale != 1 else "")
         )
+
+
+def _canonical_terms(terms: Any) -> tuple[tuple[str, float], ...]:
+    """Model switches as a sorted tuple of (name, weight); a name given twice is refused
+    (it would be keyed as one weight and simulated with another)."""
+    pairs = list(terms.items()) if isinstance(terms, Mapping) else list(terms)
+    names = [str(k) for k, _ in pairs]
+    twice = sorted({n for n in names if names.count(n) > 1})
+    if twice:
+        raise ValueError(f"terms: switch(es) {twice} given more than once")
+    out = []
+    for k, v in pairs:
+        w = float(v)
+        if not math.isfinite(w):
+            raise ValueError(f"terms[{k!r}]={v!r} must be a finite weight")
+        out.append((str(k), w))
+    return tuple(sorted(out))
 
 
 def simulate_scene(scene: Scene, t_end: float | None = None) -> BucklingRun:
@@ -161,8 +243,9 @@ def simulate_scene(scene: Scene, t_end: float | None = None) -> BucklingRun:
     (default: the scene's own duration); a Newton failure ends the run."""
     return simulate(
         scene.rod,
-        a=scene.a,
-        kappa0=scene.kappa0,
+        history=scene.twist,
+        tension=scene.tension,
+        ends=scene.ends,
         n_cells=scene.n_cells,
         dt=scene.dt,
         t_end=scene.duration() if t_end is None else t_end,
@@ -223,11 +306,15 @@ class MissingResultError(LookupError):
 
 def _row(scene: Scene, record: dict[str, Any], cached: bool) -> dict[str, Any]:
     res = record["result"]
-    family = {k: v for k, v in record["params"].items() if k not in ("a", "t_end")}
+    family = {k: v for k, v in record["params"].items() if k != "t_end"}
+    family["history"] = {k: v for k, v in family["history"].items() if k != "a"}
     return {
-        "a": scene.a,
-        "kappa0": scene.kappa0,
+        "a": scene.twist.rate,
+        "kappa0": scene.twist.kappa0,
         "rho": scene.rod.rho,
+        "rod": scene.rod.describe(),
+        "tension": scene.tension.T,
+        "ends": scene.ends.name,
         "seed": scene.seed.magnitude,
         "seed_form": scene.seed.form,
         "n_cells": scene.n_cells,

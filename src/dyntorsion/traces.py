@@ -35,7 +35,7 @@ def compare(scene: Scene, modes: int = 16, samples: int = 1200) -> dict[str, Any
     linear model with the torsional waves up to 30 u_ref; both ``|u3(L, t)|`` on
     ``samples`` common times (JSON-ready)."""
     rod = scene.rod
-    u_ref = rod.L / (rod.L**2 * np.sqrt(rod.mass_per_length / rod.B1))
+    u_ref = rod.L / rod.T0
     lin = LateralModel(rod, modes=modes).passage(
         scene.a, scene.kappa0, scene.seed, u_ref=30 * u_ref
     )

@@ -76,7 +76,7 @@ class Torsion:
 
     @property
     def mass_matrix(self) -> np.ndarray:
-        return np.array([[0.0, self.rod.rho * self.rod.J], [1.0, 0.0]])
+        return np.array([[0.0, self.rod.rotary_inertia[2]], [1.0, 0.0]])
 
     @property
     def stiffness_matrix(self) -> np.ndarray:
@@ -101,7 +101,7 @@ class Torsion:
         """
         ybar = 0.5 * (y[1:] + y[:-1])
         r = self.rod
-        return float(0.5 * ds * np.sum(r.rho * r.J * ybar[:, 1] ** 2 + r.C * ybar[:, 0] ** 2))
+        return float(0.5 * ds * np.sum(r.rotary_inertia[2] * ybar[:, 1] ** 2 + r.C * ybar[:, 0] ** 2))
 
 
 # ===================================================================== transitions (Fig 5)

@@ -1,0 +1,362 @@
+"""What is done to the rod's ends: the end-twist history, the axial end load, and
+the end conditions (section 6, eq 30, and the sets a researcher extends it with).
+
+A scene is data: each object here is a frozen dataclass with ``params()`` (its
+canonical form, part of the cache key) and is evaluated on arrays of times.
+
+* Twist histories kappa3(0, t): :class:`Ramp` (the paper's kappa0 + a t),
+  :class:`Polynomial`, :class:`RampHold` (a smooth ramp-and-hold), :class:`Tabulated`,
+  :class:`Custom` (any named callable with its parameters).
+* :class:`AxialLoad`: the axial force n3(L, t) = T + T_rate t at the far end
+  (positive = tension); the initial state carries n3 = T(0) along the rod.
+* :class:`Ends`: which six fields each end prescribes.  :data:`ENDS` names the sets;
+  ``"clamped"`` is the paper's eq (30).  Ill-posed sets are refused on construction.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import inspect
+import math
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from .model import FIELDS
+
+__all__ = [
+    "History",
+    "Ramp",
+    "Polynomial",
+    "RampHold",
+    "Tabulated",
+    "Custom",
+    "AxialLoad",
+    "Ends",
+    "ENDS",
+    "ends",
+    "IllPosedEndsError",
+]
+
+
+def _finite(name: str, value: Any) -> float:
+    if isinstance(value, bool) or not isinstance(value, int | float | np.floating | np.integer):
+        raise TypeError(f"{name}={value!r} must be a real number")
+    x = float(value)
+    if not math.isfinite(x):
+        raise ValueError(f"{name}={value!r} must be finite")
+    return x
+
+
+# ================================================================= twist histories
+class History:
+    """An end-twist history kappa3(0, t) [1/m]: ``h(t)`` on an array of times."""
+
+    kind: str = ""
+
+    def __call__(self, t: np.ndarray) -> np.ndarray:
+        raise NotImplementedError
+
+    def params(self) -> dict[str, Any]:
+        raise NotImplementedError
+
+    @property
+    def rate(self) -> float | None:
+        """The constant loading rate a of a ramp (eq 33's a), None for other histories."""
+        return None
+
+    @property
+    def kappa0(self) -> float:
+        return float(self(np.zeros(1))[0])
+
+    def label(self) -> str:
+        return self.kind + "(" + ", ".join(f"{k}={v}" for k, v in self.params().items() if k != "kind") + ")"
+
+
+@dataclass(frozen=True)
+class Ramp(History):
+    """The paper's history: kappa3(0, t) = kappa0 + a t (eq 30)."""
+
+    a: float
+    kappa0: float = 0.0
+    kind = "ramp"
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "a", _finite("a", self.a))
+        object.__setattr__(self, "kappa0", _finite("kappa0", self.kappa0))
+
+    def __call__(self, t):
+        return self.kappa0 + self.a * np.asarray(t, dtype=float)
+
+    @property
+    def rate(self) -> float:
+        return self.a
+
+    def params(self) -> dict[str, Any]:
+        return {"kind": "ramp", "kappa0": self.kappa0, "a": self.a}
+
+
+@dataclass(frozen=True)
+class Polynomial(History):
+    """kappa3(0, t) = sum_k coefficients[k] t^k."""
+
+    coefficients: tuple[float, ...]
+    kind = "polynomial"
+
+    def __post_init__(self) -> None:
+        c = tuple(_finite(f"coefficients[{i}]", v) for i, v in enumerate(self.coefficients))
+        if not c:
+            raise ValueError("coefficients must hold at least one number")
+        object.__setattr__(self, "coefficients", c)
+
+    def __call__(self, t):
+        return np.polynomial.polynomial.polyval(np.asarray(t, dtype=float), self.coefficients)
+
+    def params(self) -> dict[str, Any]:
+        return {"kind": "polynomial", "coefficients": list(self.coefficients)}
+
+
+@dataclass(frozen=True)
+class RampHold(History):
+    """A ramp kappa0 + a t rounded smoothly into a hold at ``hold``:
+    h = hold + a tau (x - log(1 + e^x)), x = (kappa0 + a t - hold) / (a tau),
+    ``tau`` [s] the time over which the corner is rounded (C-infinity)."""
+
+    a: float
+    hold: float
+    kappa0: float = 0.0
+    tau: float = 0.5
+    kind = "ramp-hold"
+
+    def __post_init__(self) -> None:
+        for name in ("a", "hold", "kappa0", "tau"):
+            object.__setattr__(self, name, _finite(name, getattr(self, name)))
+        if self.a <= 0 or self.tau <= 0:
+            raise ValueError(f"ramp-hold needs a > 0 and tau > 0 (got a={self.a}, tau={self.tau})")
+        if self.hold <= self.kappa0:
+            raise ValueError(f"hold={self.hold} must exceed kappa0={self.kappa0}")
+
+    def __call__(self, t):
+        x = (self.kappa0 + self.a * np.asarray(t, dtype=float) - self.hold) / (self.a * self.tau)
+        return self.hold + self.a * self.tau * (x - np.logaddexp(0.0, x))
+
+    def params(self) -> dict[str, Any]:
+        return {"kind": "ramp-hold", "a": self.a, "hold": self.hold, "kappa0": self.kappa0, "tau": self.tau}
+
+
+@dataclass(frozen=True)
+class Tabulated(History):
+    """kappa3(0, t) interpolated (monotone cubic, PCHIP) through the points (t, kappa);
+    constant beyond the last point."""
+
+    t: tuple[float, ...]
+    kappa: tuple[float, ...]
+    kind = "tabulated"
+
+    def __post_init__(self) -> None:
+        t = tuple(_finite(f"t[{i}]", v) for i, v in enumerate(self.t))
+        k = tuple(_finite(f"kappa[{i}]", v) for i, v in enumerate(self.kappa))
+        if len(t) != len(k) or len(t) < 2:
+            raise ValueError("t and kappa must hold the same number (>= 2) of points")
+        if t[0] != 0.0 or np.any(np.diff(t) <= 0):
+            raise ValueError("t must start at 0 and increase strictly")
+        object.__setattr__(self, "t", t)
+        object.__setattr__(self, "kappa", k)
+
+    def __call__(self, t):
+        from scipy.interpolate import PchipInterpolator
+
+        tt = np.clip(np.asarray(t, dtype=float), self.t[0], self.t[-1])
+        return PchipInterpolator(self.t, self.kappa)(tt)
+
+    def params(self) -> dict[str, Any]:
+        return {"kind": "tabulated", "t": list(self.t), "kappa": list(self.kappa)}
+
+
+@dataclass(frozen=True)
+class Custom(History):
+    """Any callable ``func(t, **parameters)`` (vectorised over t), under a ``name``.
+    The cache key holds the name, the parameters and a hash of the function's source,
+    so an edited function is not served another function's records."""
+
+    name: str
+    func: Callable[..., np.ndarray] = field(compare=False)
+    parameters: tuple[tuple[str, float], ...] = ()
+    kind = "custom"
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.name, str) or not self.name:
+            raise ValueError("a custom history needs a non-empty name")
+        if not callable(self.func):
+            raise TypeError(f"func={self.func!r} must be callable")
+        p = self.parameters.items() if isinstance(self.parameters, Mapping) else self.parameters
+        object.__setattr__(self, "parameters", tuple(sorted((str(k), _finite(k, v)) for k, v in p)))
+
+    def __call__(self, t):
+        out = np.asarray(self.func(np.asarray(t, dtype=float), **dict(self.parameters)), dtype=float)
+        return np.broadcast_to(out, np.shape(t)).astype(float)
+
+    def source_hash(self) -> str:
+        try:
+            src = inspect.getsource(self.func)
+        except (OSError, TypeError):
+            src = getattr(self.func, "__qualname__", repr(self.func))
+        return hashlib.sha256(src.encode()).hexdigest()[:16]
+
+    def params(self) -> dict[str, Any]:
+        return {
+            "kind": "custom",
+            "name": self.name,
+            "parameters": dict(self.parameters),
+            "source": self.source_hash(),
+        }
+
+
+# ================================================================= axial load
+@dataclass(frozen=True)
+class AxialLoad:
+    """Axial force at the far end, n3(L, t) = T + T_rate t [N]; positive = tension.
+
+    The initial state carries n3 = T along the whole rod (the straight rod under an
+    axial force T is in equilibrium), so a constant load starts without a jolt."""
+
+    T: float = 0.0
+    T_rate: float = 0.0
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "T", _finite("tension T", self.T))
+        object.__setattr__(self, "T_rate", _finite("tension rate T_rate", self.T_rate))
+
+    def __call__(self, t):
+        return self.T + self.T_rate * np.asarray(t, dtype=float)
+
+    @property
+    def is_zero(self) -> bool:
+        return self.T == 0.0 and self.T_rate == 0.0
+
+    def params(self) -> dict[str, Any]:
+        return {"T": self.T, "T_rate": self.T_rate}
+
+
+# ================================================================= end conditions
+class IllPosedEndsError(ValueError):
+    """A set of end conditions the rod equations cannot satisfy (refused before a run)."""
+
+
+@dataclass(frozen=True)
+class Ends:
+    """Six prescribed fields at each end (body frame, section 2).
+
+    The left end must prescribe ``k3`` (the twist history); the right end prescribes
+    ``n3`` (the axial load) unless it holds ``u3``.  All other prescribed fields are 0.
+    """
+
+    name: str
+    left: tuple[str, ...]
+    right: tuple[str, ...]
+    description: str = ""
+
+    def __post_init__(self) -> None:
+        for side in ("left", "right"):
+            names = tuple(getattr(self, side))
+            object.__setattr__(self, side, names)
+            unknown = set(names) - set(FIELDS)
+            if unknown:
+                raise IllPosedEndsError(f"{side} end: unknown field(s) {sorted(unknown)}; fields: {FIELDS}")
+            if len(set(names)) != len(names):
+                raise IllPosedEndsError(f"{side} end prescribes a field twice: {names}")
+            if len(names) != 6:
+                raise IllPosedEndsError(
+                    f"{side} end prescribes {len(names)} fields; the 12-field rod needs 6 at each end"
+                )
+        if "k3" not in self.left:
+            raise IllPosedEndsError("the left end must prescribe k3 (the end-twist history)")
+        if "u3" in self.left and "u3" in self.right:
+            raise IllPosedEndsError(
+                "u3 prescribed at both ends: inextensibility (u3_s = k2 u1 - k1 u2) fixes the "
+                "axial velocity along the rod from one end, so a second condition over-determines "
+                "it and leaves the axial force n3 undetermined; prescribe n3 at one end instead"
+            )
+        for pair in (("u1", "n1"), ("u2", "n2"), ("u3", "n3")):
+            for side in ("left", "right"):
+                if set(pair) <= set(getattr(self, side)):
+                    raise IllPosedEndsError(
+                        f"{side} end prescribes both {pair[0]} and {pair[1]}: a velocity and the "
+                        "force conjugate to it cannot both be given at one end"
+                    )
+        for pair in (("w1", "k1"), ("w2", "k2"), ("w3", "k3")):
+            for side in ("left", "right"):
+                if set(pair) <= set(getattr(self, side)):
+                    raise IllPosedEndsError(
+                        f"{side} end prescribes both {pair[0]} and {pair[1]}: an angular velocity "
+                        "and the moment conjugate to it cannot both be given at one end"
+                    )
+
+    @property
+    def holds_axial_load(self) -> bool:
+        return "n3" in self.right
+
+    def rows(self, system, history: History, load: AxialLoad):
+        """The engine's boundary rows: (left, right) :class:`~dyntorsion.genalpha.Boundary`."""
+        from .genalpha import Boundary
+
+        e_k3 = np.zeros(6)
+        e_k3[self.left.index("k3")] = 1.0
+        left = Boundary.fields(system, list(self.left), lambda t: np.outer(history(t), e_k3))
+        if self.holds_axial_load and not load.is_zero:
+            e_n3 = np.zeros(6)
+            e_n3[self.right.index("n3")] = 1.0
+            right = Boundary.fields(system, list(self.right), lambda t: np.outer(load(t), e_n3))
+        else:
+            if not load.is_zero:
+                raise IllPosedEndsError(f"ends {self.name!r} hold u3 at the far end: no axial load can act")
+            right = Boundary.fields(system, list(self.right))
+        return left, right
+
+    def params(self) -> dict[str, Any]:
+        return {"name": self.name, "left": list(self.left), "right": list(self.right)}
+
+
+#: the named end-condition sets (body-frame fields prescribed at s = 0 and s = L)
+ENDS: dict[str, Ends] = {
+    e.name: e
+    for e in (
+        Ends(
+            "clamped",
+            ("u1", "u2", "u3", "w1", "w2", "k3"),
+            ("w1", "w2", "w3", "u1", "u2", "n3"),
+            "eq (30): s = 0 clamped and twisted; s = L held in rotation and laterally, free to "
+            "slide axially under n3 = T",
+        ),
+        Ends(
+            "clamped-free-lateral",
+            ("u1", "u2", "u3", "w1", "w2", "k3"),
+            ("w1", "w2", "w3", "n1", "n2", "n3"),
+            "s = L held in rotation, free laterally (no lateral force) and axially",
+        ),
+        Ends(
+            "clamped-free",
+            ("u1", "u2", "u3", "w1", "w2", "k3"),
+            ("n1", "n2", "n3", "k1", "k2", "k3"),
+            "s = L free: no force (but the axial load) and no moment",
+        ),
+        Ends(
+            "pinned-follower",
+            ("u1", "u2", "u3", "k1", "k2", "k3"),
+            ("u1", "u2", "n3", "k1", "k2", "w3"),
+            "both ends held in position, free to tilt (no bending moment); the twisting moment "
+            "follows the tangent (a follower torque, not Greenhill's axial one)",
+        ),
+    )
+}
+
+
+def ends(value: str | Ends) -> Ends:
+    """An :class:`Ends` by name (see :data:`ENDS`), or the object itself."""
+    if isinstance(value, Ends):
+        return value
+    if value not in ENDS:
+        raise ValueError(f"ends={value!r}; allowed: {', '.join(ENDS)} or an Ends")
+    return ENDS[value]
