@@ -12,21 +12,53 @@ from collections.abc import Sequence
 import numpy as np
 
 from . import __version__, fidelity
-from .buckling import Perturbation, critical_twist, fit_power_law
+from .buckling import Perturbation, fit_power_law
 from .fidelity import LEVELS
-from .results import ON_STALE
+from .loading import ENDS, AxialLoad, Polynomial, RampHold, Tabulated
+from .results import ON_STALE, Store
 from .rod import Rod
-from .sweep import DATA, PRESETS, Scene, cached, run_scene, run_sweep
+from .sweep import KIND, default_store, PRESETS, Scene, cached, preset, run_scene, run_sweep
+
+
+def _numbers(text: str, n: int | None, what: str) -> list[float]:
+    try:
+        vals = [float(v) for v in text.split(",")]
+    except ValueError:
+        raise ValueError(f"{what}={text!r} must be comma-separated numbers") from None
+    if n is not None and len(vals) != n:
+        raise ValueError(f"{what}={text!r} must hold {n} numbers (got {len(vals)})")
+    return vals
 
 
 def _scene_options(p: argparse.ArgumentParser, kappa0: float) -> None:
-    g = p.add_argument_group("scene")
-    g.add_argument("--kappa0", type=float, default=kappa0, help="initial twist [1/m]")
+    g = p.add_argument_group("rod (default: Table 1)")
     g.add_argument("--rho", type=float, default=1500.0, help="density [kg/m^3] (Table 1: 1500)")
     g.add_argument("--E", type=float, default=1.25e7, help="Young's modulus [Pa]")
     g.add_argument("--nu", type=float, default=0.25, help="Poisson's ratio")
-    g.add_argument("--D", type=float, default=1e-3, help="diameter [m]")
     g.add_argument("--L", type=float, default=1.0, help="length [m]")
+    sec = g.add_mutually_exclusive_group()
+    sec.add_argument("--D", type=float, default=None, help="diameter of a circle [m] (1e-3)")
+    sec.add_argument("--ellipse", metavar="A,B", help="elliptic section: semi-axes along d1, d2 [m]")
+    sec.add_argument("--rectangle", metavar="W,H", help="rectangular section: width (d1), height (d2) [m]")
+    sec.add_argument(
+        "--properties",
+        metavar="B1,B2,C,RHOA,RHOI1,RHOI2,RHOI3,THICKNESS",
+        help="a rod given by its stiffnesses [N m^2], mass per length [kg/m], rotary inertias "
+        "[kg m] and contact thickness [m] (E, nu, rho are then unused)",
+    )
+    g = p.add_argument_group("loading and ends")
+    g.add_argument("--kappa0", type=float, default=kappa0, help="initial twist [1/m]")
+    g.add_argument(
+        "--history",
+        default="ramp",
+        help="end twist kappa3(0, t): 'ramp' (kappa0 + a t, the paper), 'ramp-hold:HOLD[:TAU]' "
+        "(ramp at --a rounded into a hold at HOLD 1/m over TAU s), 'poly:C0,C1,...' "
+        "(sum C_k t^k), 'table:FILE' (two columns t, kappa; t from 0)",
+    )
+    g.add_argument("--tension", type=float, default=0.0, help="axial end load [N], > 0 tension")
+    g.add_argument("--tension-rate", type=float, default=0.0, help="its rate [N/s]")
+    g.add_argument("--ends", choices=sorted(ENDS), default="clamped", help="end conditions (clamped: eq 30)")
+    g = p.add_argument_group("seed and grid")
     g.add_argument(
         "--seed",
         type=float,
@@ -39,7 +71,8 @@ def _scene_options(p: argparse.ArgumentParser, kappa0: float) -> None:
         "--fidelity",
         choices=LEVELS,
         default=None,
-        help="grid preset (dyntorsion.fidelity); overrides --n-cells/--dt/--lam-*",
+        help="grid preset (dyntorsion.fidelity), its time step scaled to the rod; "
+        "overrides --n-cells/--dt/--lam-*",
     )
     g.add_argument("--n-cells", type=int, default=100, help="cells along the rod")
     g.add_argument("--dt", type=float, default=0.005, help="time step [s]")
@@ -49,29 +82,87 @@ def _scene_options(p: argparse.ArgumentParser, kappa0: float) -> None:
         "--t-end",
         type=float,
         default=None,
-        help="end time [s] (default: 3x the paper's delay, eqs 33-34)",
+        help="end time [s] (default for the ramp at clamped ends: 3x the paper's delay, eqs 33-34)",
     )
 
 
-def _scene(args: argparse.Namespace, a: float) -> Scene:
-    rod = Rod(E=args.E, nu=args.nu, D=args.D, L=args.L, rho=args.rho)
+def _rod(args: argparse.Namespace) -> Rod:
+    if args.properties:
+        B1, B2, C, rhoA, r1, r2, r3, t = _numbers(args.properties, 8, "--properties")
+        return Rod.from_properties(
+            L=args.L, B1=B1, B2=B2, C=C, mass_per_length=rhoA, rotary_inertia=(r1, r2, r3), thickness=t
+        )
+    mat = dict(E=args.E, nu=args.nu, L=args.L, rho=args.rho)
+    if args.ellipse:
+        a, b = _numbers(args.ellipse, 2, "--ellipse")
+        return Rod.elliptic(a=a, b=b, **mat)
+    if args.rectangle:
+        w, h = _numbers(args.rectangle, 2, "--rectangle")
+        return Rod.rectangular(w=w, h=h, **mat)
+    return Rod(D=1e-3 if args.D is None else args.D, **mat)
+
+
+def _history(args: argparse.Namespace, a: float | None) -> dict:
+    """Scene keywords for the end twist: a and kappa0 (the ramp) or a history."""
+    kind, _, rest = args.history.partition(":")
+    if kind == "ramp":
+        if a is None:
+            raise ValueError("--history ramp needs the loading rate --a")
+        return {"a": a, "kappa0": args.kappa0}
+    if kind == "ramp-hold":
+        if a is None:
+            raise ValueError("--history ramp-hold needs the loading rate --a")
+        vals = _numbers(rest, None, "--history ramp-hold:HOLD[:TAU]".replace(":TAU]", "]"))
+        if len(vals) not in (1, 2):
+            raise ValueError("--history ramp-hold:HOLD[,TAU] takes one or two numbers")
+        return {"history": RampHold(a, vals[0], args.kappa0, *vals[1:])}
+    if kind == "poly":
+        return {"history": Polynomial(tuple(_numbers(rest, None, "--history poly")))}
+    if kind == "table":
+        try:
+            t, k = np.loadtxt(rest, delimiter=None, unpack=True, ndmin=2)
+        except (OSError, ValueError) as err:
+            raise ValueError(f"--history table:{rest}: cannot read two columns t, kappa ({err})") from None
+        return {"history": Tabulated(tuple(t), tuple(k))}
+    raise ValueError(f"--history={args.history!r}; allowed: ramp, ramp-hold:HOLD[,TAU], poly:C0,C1,..., table:FILE")
+
+
+def _scene(args: argparse.Namespace, a: float | None) -> Scene:
+    rod = _rod(args)
     seed = Perturbation(magnitude=args.seed, form=args.seed_form, location=args.seed_location)
     grid = fidelity.get(
         "buckling",
-        args.fidelity
-        or fidelity.Fidelity(args.n_cells, args.dt, lam_s=args.lam_s, lam_t=args.lam_t),
+        args.fidelity or fidelity.Fidelity(args.n_cells, args.dt, lam_s=args.lam_s, lam_t=args.lam_t),
+        rod=rod,
     )
     return Scene(
-        a=a, kappa0=args.kappa0, rod=rod, seed=seed, t_end=args.t_end, **grid.simulate_kwargs()
+        rod=rod,
+        seed=seed,
+        t_end=args.t_end,
+        tension=AxialLoad(args.tension, args.tension_rate),
+        ends=args.ends,
+        **_history(args, a),
+        **grid.simulate_kwargs(),
     )
 
 
 def _rates(text: str) -> list[float]:
     """'0.1,0.4,1.6' or 'geom:0.05:16:12' (12 rates spaced logarithmically)."""
     if text.startswith("geom:"):
-        lo, hi, n = text[5:].split(":")
-        return [float(v) for v in np.geomspace(float(lo), float(hi), int(n))]
-    return [float(v) for v in text.split(",") if v.strip()]
+        parts = text[5:].split(":")
+        try:
+            lo, hi, n = float(parts[0]), float(parts[1]), int(parts[2])
+            if len(parts) != 3:
+                raise IndexError
+        except (IndexError, ValueError):
+            raise ValueError(f"--rates {text!r}: write geom:LO:HI:N (e.g. geom:0.05:16:12)") from None
+        if not (0 < lo < hi and n >= 2):
+            raise ValueError(f"--rates {text!r}: need 0 < LO < HI and N >= 2")
+        return [float(v) for v in np.geomspace(lo, hi, n)]
+    rates = _numbers(text, None, "--rates") if text.strip(", ") else []
+    if not rates:
+        raise ValueError(f"--rates {text!r} holds no rate (e.g. 0.1,0.4,1.6 or geom:0.05:16:12)")
+    return rates
 
 
 def _buckle(args: argparse.Namespace) -> int:
@@ -81,7 +172,10 @@ def _buckle(args: argparse.Namespace) -> int:
         row = table.iloc[0].to_dict()
     else:
         row = run_scene(scene)
-    kc = critical_twist(scene.rod)
+    try:
+        kc = f"{scene.kappa_cri():.4f}"
+    except ValueError:
+        kc = "not covered by the static theory"
     print(f"scene      {scene.label()}")
     print(f"stopped    {row['stopped']}")
     if row["t_c"] is None or (isinstance(row["t_c"], float) and np.isnan(row["t_c"])):
@@ -90,7 +184,7 @@ def _buckle(args: argparse.Namespace) -> int:
     print(f"t_c        {row['t_c']:.4f} +- {row['uncertainty_t']:.4f} s")
     print(
         f"kappa3     {row['kappa3']:.4f} +- {row['uncertainty_kappa3']:.4f} 1/m "
-        f"(static kappa_cri = {kc:.4f})"
+        f"(static kappa_cri = {kc})"
     )
     return 0
 
@@ -105,23 +199,64 @@ def _sweep_scenes(args: argparse.Namespace) -> list[Scene]:
     return [_scene(args, a) for a in _rates(args.rates)]
 
 
-def _print_fit(table) -> None:
-    ok = table.dropna(subset=["kappa3"])
-    for _, grp in ok.groupby("family", sort=False):
-        grp = grp.loc[~grp["a"].round(9).duplicated()]
-        if len(grp) < 4:
-            continue
-        rho, k0, seed, n, dt = grp.iloc[0][["rho", "kappa0", "seed", "n_cells", "dt"]]
-        rod = Rod(rho=rho)
-        for mode in ("static", None):
-            f = fit_power_law(grp["a"], grp["kappa3"], rod, kappa_cri=mode, n_boot=500)
-            tag = "kappa_cri fixed" if mode else "kappa_cri free "
+def _print_fit(rows: list[dict]) -> None:
+    """Fit eq (33) to each family of scenes (same everything but the rate), with each
+    family's own rod, axial load and static critical twist."""
+    families: dict[str, list[dict]] = {}
+    for r in rows:
+        if r["a"] is not None and r["kappa3"] is not None:
+            families.setdefault(r["family"], []).append(r)
+    if not families:
+        print("fit: no scene with a loading rate and an onset to fit")
+    for grp in families.values():
+        seen, pts = set(), []
+        for r in grp:
+            if round(r["a"], 9) not in seen:
+                seen.add(round(r["a"], 9))
+                pts.append(r)
+        head = pts[0]
+        name = head["label"]
+        if len(pts) < 4:
             print(
-                f"fit rho={rho:g} kappa0={k0:g} seed={seed:g} N={n} dt={dt:g} {tag}: "
-                f"b = {f.b:.2f} +- {f.b_err:.2f}, sigma = {f.sigma:.4f} +- {f.sigma_err:.4f}, "
-                f"kappa_cri = {f.kappa_cri:.4f} +- {f.kappa_cri_err:.4f} "
-                "(paper: b = 160.60, sigma = 0.5680)"
+                f"fit {name}: {len(pts)} rate(s) with an onset; eq (33) needs at least 4 "
+                "(3 parameters with kappa_cri free, plus one) -- add rates to this sweep"
             )
+            continue
+        a = [r["a"] for r in pts]
+        k = [r["kappa3"] for r in pts]
+        rod = head["rod"]
+        try:
+            kc = head["scene"].kappa_cri()
+            modes = (kc, None)
+        except ValueError as err:
+            print(f"fit {name}: kappa_cri fixed skipped ({err})")
+            modes = (None,)
+        for mode in modes:
+            f = fit_power_law(a, k, rod, kappa_cri=mode, n_boot=500)
+            tag = "kappa_cri fixed" if mode is not None else "kappa_cri free "
+            print(
+                f"fit {name} {tag}: b = {f.b:.2f} +- {f.b_err:.2f}, "
+                f"sigma = {f.sigma:.4f} +- {f.sigma_err:.4f}, "
+                f"kappa_cri = {f.kappa_cri:.4f} +- {f.kappa_cri_err:.4f} "
+                "(paper, Table 1 rod: b = 160.60, sigma = 0.5680)"
+            )
+
+
+def _fit_rows(table, scenes: list[Scene]) -> list[dict]:
+    rows = []
+    for (_, r), sc in zip(table.iterrows(), scenes, strict=True):
+        label = sc.label().split(" ", 1)[1] if sc.history is None else sc.label()
+        rows.append(
+            {
+                "a": sc.twist.rate,
+                "kappa3": None if r["kappa3"] is None or r["kappa3"] != r["kappa3"] else r["kappa3"],
+                "family": r["family"],
+                "rod": sc.rod,
+                "scene": sc,
+                "label": f"[{label.split(' N=')[0]} N={sc.n_cells} dt={sc.dt:g}]",
+            }
+        )
+    return rows
 
 
 def _log(message: str) -> None:
@@ -164,7 +299,7 @@ def _sweep(args: argparse.Namespace) -> int:
     cols = [
         "a",
         "kappa0",
-        "rho",
+        "rod",
         "seed",
         "n_cells",
         "dt",
@@ -175,7 +310,7 @@ def _sweep(args: argparse.Namespace) -> int:
     ]
     with np.printoptions(precision=4):
         print(table[cols].to_string(index=False, float_format=lambda v: f"{v:.5g}"))
-    _print_fit(table)
+    _print_fit(_fit_rows(table, scenes))
     return 0
 
 
@@ -206,8 +341,16 @@ def _linear(args: argparse.Namespace) -> int:
 
 
 def _fit(args: argparse.Namespace) -> int:
-    table = cached(args.preset, args.store)
-    _print_fit(table)
+    if args.preset:
+        scenes = preset(args.preset)
+        table = cached(args.preset, args.store)
+    else:
+        store = Store(args.store or default_store())
+        scenes = [Scene.from_params(rec["params"]) for rec in store.records(KIND)]
+        if not scenes:
+            raise ValueError(f"--store {args.store}: no {KIND} records to fit")
+        table = run_sweep(scenes, args.store, compute=False, on_stale="error", progress=False)
+    _print_fit(_fit_rows(table, scenes))
     return 0
 
 
@@ -223,7 +366,7 @@ def parser() -> argparse.ArgumentParser:
     sub = p.add_subparsers(dest="command", required=True)
 
     b = sub.add_parser("buckle", help="one buckling scene: print t_c and kappa3")
-    b.add_argument("--a", type=float, required=True, help="loading rate [rad/(m s)]")
+    b.add_argument("--a", type=float, default=None, help="loading rate [rad/(m s)] (ramp histories)")
     _scene_options(b, kappa0=0.0)
     b.add_argument(
         "--store", default=None, help="cache folder: read the scene from it, or compute and add it"
@@ -240,7 +383,7 @@ def parser() -> argparse.ArgumentParser:
     )
     s.add_argument("--rates", default=None, help="'0.1,0.4,1.6' or 'geom:LO:HI:N'")
     _scene_options(s, kappa0=10.0)
-    s.add_argument("--store", default=str(DATA), help="cache folder (default: data/scenes)")
+    s.add_argument("--store", default=None, help="cache folder (default: $DYNTORSION_DATA, else data/scenes)")
     s.add_argument("--jobs", type=int, default=1, help="local worker processes")
     s.add_argument(
         "--dask-local",
@@ -267,15 +410,17 @@ def parser() -> argparse.ArgumentParser:
         choices=sorted(_linear_presets()),
         help="a named set of predictions (repeatable)",
     )
-    lin.add_argument("--store", default=str(DATA), help="cache folder (default: data/scenes)")
+    lin.add_argument("--store", default=None, help="cache folder (default: $DYNTORSION_DATA, else data/scenes)")
     lin.add_argument("--jobs", type=int, default=1, help="local worker processes")
     lin.add_argument("--on-stale", choices=ON_STALE, default="recompute")
     lin.add_argument("--quiet", action="store_true", help="no log")
     lin.set_defaults(func=_linear)
 
-    f = sub.add_parser("fit", help="fit eq (33) to a cached preset sweep")
-    f.add_argument("--preset", choices=sorted(PRESETS), default="fig10")
-    f.add_argument("--store", default=str(DATA))
+    f = sub.add_parser(
+        "fit", help="fit eq (33) to cached sweeps: a preset, or every rate sweep in a store"
+    )
+    f.add_argument("--preset", choices=sorted(PRESETS), default=None)
+    f.add_argument("--store", default=None, help="cache folder (default: $DYNTORSION_DATA, else data/scenes)")
     f.set_defaults(func=_fit)
     return p
 

@@ -13,6 +13,11 @@ wherever a preset name is::
 
 ``DYNTORSION_FIDELITY`` (environment) sets the level :func:`level` returns, so
 the notebooks can be built at ``quick`` fidelity.
+
+The presets are measured on the rod of Table 1; for another rod, ``get(scene, level,
+rod)`` keeps the number of cells and scales the time step with the rod's own time
+scales (:func:`time_scale`), so that a steel wire or an elliptic rod runs at every
+level with the same resolution in its own units.
 """
 
 from __future__ import annotations
@@ -23,8 +28,9 @@ from dataclasses import dataclass
 from typing import Any
 
 from .genalpha import Scheme, parameters
+from .rod import Rod
 
-__all__ = ["Fidelity", "LEVELS", "PRESETS", "get", "level"]
+__all__ = ["Fidelity", "LEVELS", "PRESETS", "get", "level", "time_scale"]
 
 LEVELS: tuple[str, ...] = ("quick", "standard", "paper")
 
@@ -94,9 +100,23 @@ def level() -> str:
     return name
 
 
-def get(scene: str, fidelity: str | Fidelity | None = None) -> Fidelity:
+def time_scale(scene: str, rod: Rod) -> float:
+    """How much shorter (< 1) or longer the time step of ``scene`` is for ``rod`` than for
+    the rod of Table 1: the torsional transit time L/c for the wave scenes (the same
+    Courant number), and for buckling the smaller of the ratios of the transit time and
+    of the bending time T0 (both motions resolved as well as for Table 1).  1.0 exactly
+    for Table 1."""
+    ref = Rod.paper()
+    transit = rod.transit / ref.transit
+    if scene.startswith("waves"):
+        return transit
+    return min(transit, rod.T0 / ref.T0)
+
+
+def get(scene: str, fidelity: str | Fidelity | None = None, rod: Rod | None = None) -> Fidelity:
     """The :class:`Fidelity` of ``scene`` at a named level (default :func:`level`), or
-    ``fidelity`` itself when it is already one."""
+    ``fidelity`` itself when it is already one.  With ``rod``, a named level's time step
+    is scaled to that rod (:func:`time_scale`)."""
     if isinstance(fidelity, Fidelity):
         return fidelity
     if scene not in PRESETS:
@@ -104,4 +124,8 @@ def get(scene: str, fidelity: str | Fidelity | None = None) -> Fidelity:
     name = level() if fidelity is None else fidelity
     if name not in LEVELS:
         raise ValueError(f"fidelity={name!r}; allowed: {', '.join(LEVELS)} or a Fidelity")
-    return PRESETS[scene][name]
+    f = PRESETS[scene][name]
+    if rod is None:
+        return f
+    factor = time_scale(scene, rod)
+    return f if factor == 1.0 else Fidelity(f.n_cells, f.dt * factor, f.lam_s, f.lam_t)

@@ -522,12 +522,20 @@ class Prediction:
             rotary_inertia=self.rotary_inertia,
         )
 
+    def __post_init__(self) -> None:
+        sc = self.scene
+        if sc.history is not None or not sc.tension.is_zero or sc.ends.name != "clamped":
+            raise ValueError(
+                "the linear prediction covers the paper's scene (a ramp, clamped ends of eq 30, "
+                f"no axial load); got {sc.label()}"
+            )
+
     def params(self) -> dict[str, Any]:
         p = self.scene.params()
         return {
             "rod": p["rod"],
-            "a": p["a"],
-            "kappa0": p["kappa0"],
+            "a": self.scene.a,
+            "kappa0": self.scene.kappa0,
             "perturbation": p["perturbation"],
             "linear": {
                 "waves": self.waves,
@@ -576,7 +584,7 @@ def predict(
     """Run (or read back) linear predictions; one row per prediction, in order.
 
     Cached like the buckling scenes (:func:`~dyntorsion.sweep.cached_map`): read from
-    ``store`` (default :data:`~dyntorsion.sweep.DATA`) when present and fresh,
+    ``store`` (default :func:`~dyntorsion.sweep.default_store`) when present and fresh,
     otherwise computed on ``jobs`` processes and written the moment each finishes;
     ``compute=False`` raises :class:`~dyntorsion.sweep.MissingResultError` for a
     missing one.

@@ -38,6 +38,8 @@ __all__ = [
     "ENDS",
     "ends",
     "IllPosedEndsError",
+    "history_from_params",
+    "ends_from_params",
 ]
 
 
@@ -212,6 +214,34 @@ class Custom(History):
             "parameters": dict(self.parameters),
             "source": self.source_hash(),
         }
+
+
+def history_from_params(p: Mapping[str, Any]) -> History:
+    """The history of a cache key (its ``params()``); a custom history cannot be rebuilt
+    (its function is code, not data)."""
+    q = dict(p)
+    kind = q.pop("kind", None)
+    if kind == "ramp":
+        return Ramp(a=q["a"], kappa0=q["kappa0"])
+    if kind == "polynomial":
+        return Polynomial(tuple(q["coefficients"]))
+    if kind == "ramp-hold":
+        return RampHold(**q)
+    if kind == "tabulated":
+        return Tabulated(tuple(q["t"]), tuple(q["kappa"]))
+    if kind == "custom":
+        raise ValueError(
+            f"history {q.get('name')!r} is a custom function: rebuild its Scene in Python "
+            "with the same Custom(name, func, parameters)"
+        )
+    raise ValueError(f"history kind={kind!r}; allowed: ramp, polynomial, ramp-hold, tabulated, custom")
+
+
+def ends_from_params(p: Mapping[str, Any]) -> Ends:
+    """The end set of a cache key (the named set when its rows match)."""
+    e = Ends(p["name"], tuple(p["left"]), tuple(p["right"]))
+    named = ENDS.get(e.name)
+    return named if named is not None and (named.left, named.right) == (e.left, e.right) else e
 
 
 # ================================================================= axial load

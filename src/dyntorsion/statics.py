@@ -35,6 +35,7 @@ from functools import lru_cache
 import mpmath
 import numpy as np
 import scipy.linalg
+import scipy.optimize
 
 from .rod import Rod
 
@@ -171,15 +172,20 @@ def _end_rows(ends: str, b1: float, b2: float, m: float, kappa: float) -> np.nda
     return rows
 
 
-def _singularity(rod: Rod, tension: float, ends: str, kappa_L: float) -> float:
-    """sigma_min / sigma_max of the 8 x 8 end-condition matrix at twist kappa_L / L."""
+def _end_matrix(rod: Rod, tension: float, ends: str, kappa_L: float) -> np.ndarray:
+    """The 8 x 8 matrix of the end conditions at s = 0 and s = L (z(L) = expm(A L) z(0))."""
     B = rod.B
     b1, b2 = rod.B1 / B, rod.B2 / B
     m = rod.C * kappa_L / B
     t = tension * rod.L**2 / B
     rows = _end_rows(ends, b1, b2, m, kappa_L)
     P = scipy.linalg.expm(_system_matrix(b1, b2, m, kappa_L, t))
-    s = np.linalg.svd(np.vstack([rows, rows @ P]), compute_uv=False)
+    return np.vstack([rows, rows @ P])
+
+
+def _singularity(rod: Rod, tension: float, ends: str, kappa_L: float) -> float:
+    """sigma_min / sigma_max of the end-condition matrix at twist kappa_L / L."""
+    s = np.linalg.svd(_end_matrix(rod, tension, ends, kappa_L), compute_uv=False)
     return float(s[-1] / s[0])
 
 
@@ -198,8 +204,22 @@ def critical_twist_transfer(rod: Rod, tension: float = 0.0, ends: str = "clamped
         if vals[i] <= vals[i - 1] and vals[i] <= vals[i + 1]:
             k, v = _golden(lambda k: _singularity(rod, T, ends, k), grid[i - 1], grid[i + 1])
             if v < 1e-9:
-                return k / rod.L
+                return _lowest_below(rod, T, ends, grid[i - 1], k) / rod.L
     raise ValueError(f"no critical twist found below {top / rod.L:.4g} 1/m")
+
+
+def _lowest_below(rod: Rod, T: float, ends: str, lo: float, k: float) -> float:
+    """A nearly isotropic section splits the double root of the isotropic rod into two
+    close simple roots, which one minimum of sigma_min may hold together: deflate the
+    determinant by the root k found and take a sign change below it, if there is one."""
+
+    def g(x: float) -> float:
+        return float(np.linalg.det(_end_matrix(rod, T, ends, x))) / (x - k)
+
+    hi = k * (1 - 1e-9)
+    if hi > lo and np.sign(g(lo)) != np.sign(g(hi)):
+        return float(scipy.optimize.brentq(g, lo, hi, xtol=1e-15 * k, rtol=1e-15))
+    return k
 
 
 def _golden(f, lo: float, hi: float, rtol: float = 1e-14) -> tuple[float, float]:

@@ -17,6 +17,7 @@ from __future__ import annotations
 import concurrent.futures as cf
 import math
 import multiprocessing
+import os
 import time
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import asdict, dataclass, field
@@ -27,7 +28,7 @@ import numpy as np
 import pandas as pd
 
 from .buckling import BucklingRun, Perturbation, _load, detect_onset, simulate
-from .loading import ENDS, AxialLoad, Ends, History, Ramp
+from .loading import ENDS, AxialLoad, Ends, History, Ramp, ends_from_params, history_from_params
 from .loading import ends as _ends
 from .statics import critical_twist
 from .genalpha import Newton, Scheme
@@ -44,6 +45,7 @@ __all__ = [
     "MissingResultError",
     "KIND",
     "DATA",
+    "default_store",
     "FIG10_RATES",
     "SEEDS",
     "PRESETS",
@@ -56,6 +58,12 @@ KIND = "buckling-onset"
 
 #: the source tree's data folder (``data/scenes``)
 DATA = Path(__file__).resolve().parents[2] / "data" / "scenes"
+
+
+def default_store() -> Path:
+    """The store used when none is given: ``$DYNTORSION_DATA`` if set, else :data:`DATA`."""
+    env = os.environ.get("DYNTORSION_DATA")
+    return Path(env) if env else DATA
 
 #: the paper's fit, eq (34); used only to choose how long a run may last
 PAPER_B, PAPER_SIGMA = 160.60, 0.5680
@@ -143,6 +151,34 @@ class Scene:
                 f"kappa0={self.kappa0} lies beyond the horizon twist "
                 f"{self.kappa0 + self.a * self.duration():.4g}; give t_end"
             )
+
+    @classmethod
+    def from_params(cls, p: Mapping[str, Any]) -> Scene:
+        """The scene of a cache key (:meth:`params`): ``Scene.from_params(s.params())``
+        has the key of ``s``."""
+        hist = history_from_params(p["history"])
+        twist = (
+            {"a": hist.a, "kappa0": hist.kappa0} if isinstance(hist, Ramp) else {"history": hist}
+        )
+        seed = dict(p["perturbation"])
+        seed["direction"] = tuple(seed["direction"])
+        model = p["model"]
+        return cls(
+            **twist,
+            rod=Rod.from_params(p["rod"]),
+            seed=Perturbation(**seed),
+            n_cells=p["n_cells"],
+            dt=p["dt"],
+            t_end=p["t_end"],
+            scheme=Scheme(**p["scheme"]),
+            newton=Newton(**p["newton"]),
+            window=tuple(p["onset"]["window"]),
+            variations=tuple(tuple(v) for v in p["onset"]["variations"]),
+            terms=tuple(model["terms"].items()),
+            rotary_inertia_scale=model["rotary_inertia_scale"],
+            tension=AxialLoad(**p["load"]),
+            ends=ends_from_params(p["ends"]),
+        )
 
     @property
     def twist(self) -> History:
@@ -350,7 +386,7 @@ def run_sweep(
     their other parameters): one rate sweep, ready for
     :func:`~dyntorsion.buckling.fit_power_law`.
 
-    Scenes already in ``store`` (default :data:`DATA`) are read, not recomputed;
+    Scenes already in ``store`` (default :func:`default_store`: ``$DYNTORSION_DATA`` or :data:`DATA`) are read, not recomputed;
     the others run on ``executor`` (any :class:`concurrent.futures.Executor`, for
     example ``dask.distributed.Client.get_executor()``), or on ``jobs`` local
     processes (``jobs=1``: in this process).  Each finished scene is written to
@@ -395,12 +431,12 @@ def cached_map(
 
     Each item has ``params()`` (the cache key, with ``kind``) and ``label()``;
     ``run(item)`` (a module-level function, so processes can receive it) returns the
-    JSON-ready result.  Records in ``store`` (default :data:`DATA`) are read; the
+    JSON-ready result.  Records in ``store`` (default :func:`default_store`: ``$DYNTORSION_DATA`` or :data:`DATA`) are read; the
     others run on ``executor``, or on ``jobs`` local processes (``jobs=1``: here),
     and each is written the moment it finishes.  ``show`` names a result entry for
     the log line; ``command`` is the one the missing-result error recommends.
     """
-    store = Store(DATA if store is None else store) if not isinstance(store, Store) else store
+    store = Store(default_store() if store is None else store) if not isinstance(store, Store) else store
     if not isinstance(jobs, int) or jobs < 1:
         raise ValueError(f"jobs={jobs!r} must be an integer >= 1")
     say = log or (lambda msg: None)
@@ -564,7 +600,7 @@ PRESETS: dict[str, Callable[[], list[Scene]]] = {
 
 
 def cached(name: str, store: Store | str | Path | None = None) -> pd.DataFrame:
-    """The table of a named preset read from ``store`` (default :data:`DATA`), computing
+    """The table of a named preset read from ``store`` (default :func:`default_store`: ``$DYNTORSION_DATA`` or :data:`DATA`), computing
     nothing: a missing scene raises :class:`MissingResultError`, a stale one
     :class:`~dyntorsion.results.StaleResultError`, each asking for ``make data``."""
     return run_sweep(preset(name), store, compute=False, on_stale="error", progress=False)

@@ -16,7 +16,7 @@ import numpy as np
 
 from .linear_stability import LateralModel
 from .results import Store
-from .sweep import DATA, Scene, simulate_scene
+from .sweep import Scene, default_store, simulate_scene
 
 __all__ = ["KIND", "SCENES", "compare", "load"]
 
@@ -60,7 +60,7 @@ def load(
 ) -> list[dict[str, Any]]:
     """The trace records of ``scenes`` from ``store`` (default data/scenes); missing or
     stale ones are computed with ``compute=True`` and refused otherwise."""
-    store = Store(DATA if store is None else store) if not isinstance(store, Store) else store
+    store = Store(default_store() if store is None else store) if not isinstance(store, Store) else store
     out = []
     for sc in scenes:
         params = _params(sc, modes, samples)
