@@ -7,13 +7,14 @@ the linear wave conserves energy at lambda_inf = -1 and loses it otherwise.
 
 import itertools
 import math
+import warnings
 
 import numpy as np
 import pytest
 
 from dyntorsion import Rod
 from dyntorsion import waves as w
-from dyntorsion.buckling import simulate
+from dyntorsion.buckling import TESTED_COURANT, TESTED_DT_OVER_T0, GridWarning, simulate
 from dyntorsion.genalpha import ConvergenceError, Scheme, SchemeWarning
 
 ROD = Rod()
@@ -86,6 +87,16 @@ def test_buckling_scene_is_sound_or_says_why(a, rho, n_cells, courant, lam_t):
     rod = ROD.with_(rho=rho)
     dt = courant * (rod.L / n_cells) / rod.c
     t_end = min(200 * dt, 60.0 / a)
+    far = dt / rod.T0 > 10 * TESTED_DT_OVER_T0[1] or courant > 10 * TESTED_COURANT[1]
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", GridWarning)
+        return _sound_or_says_why(rod, a, n_cells, dt, t_end, lam_t, far, caught)
+
+
+def _sound_or_says_why(rod, a, n_cells, dt, t_end, lam_t, far, caught):
+    def warned():
+        assert any(issubclass(w.category, GridWarning) for w in caught) == far
+
     try:
         run = simulate(
             rod,
@@ -103,7 +114,9 @@ def test_buckling_scene_is_sound_or_says_why(a, rho, n_cells, courant, lam_t):
         assert err.iterations >= 1 and err.residual > 0
         assert "t=" in str(err) and "residual" in str(err)
         assert err.run is not None and np.all(np.isfinite(err.run["u3_end"]))
+        warned()
         return
+    warned()
     for trace in (run.u3_end, run.kappa3_left, run.kappa3_right, run.omega3_left):
         assert np.all(np.isfinite(trace))
     np.testing.assert_allclose(run.kappa3_left, 10.0 + a * run.t, rtol=1e-9, atol=1e-9)

@@ -33,7 +33,9 @@ def test_histories_evaluate_what_they_say():
     np.testing.assert_allclose(Polynomial((1.0, 2.0, 3.0))(t), 1 + 2 * t + 3 * t**2, rtol=1e-15)
     hold = RampHold(a=2.0, hold=16.0, kappa0=10.0, tau=0.1)
     h = hold(t)
-    assert np.all(np.diff(h) >= 0) and h[-1] == pytest.approx(16.0 - 0.2 * np.log1p(np.exp(-20.0)), rel=1e-15)
+    assert np.all(np.diff(h) >= 0) and h[-1] == pytest.approx(
+        16.0 - 0.2 * np.log1p(np.exp(-20.0)), rel=1e-15
+    )
     assert h[2] == pytest.approx(10.0 + 2.0 * t[2], rel=1e-6)  # still on the ramp at t = 1
     tab = Tabulated((0.0, 1.0, 2.0), (10.0, 11.0, 11.5))
     np.testing.assert_allclose(tab(np.array([0.0, 1.0, 2.0, 9.0])), [10.0, 11.0, 11.5, 11.5])
@@ -46,7 +48,11 @@ def test_histories_evaluate_what_they_say():
 @pytest.mark.parametrize(
     "left, right, why",
     [
-        (("u1", "u2", "u3", "w1", "w2", "k3"), ("w1", "w2", "w3", "u1", "u2", "u3"), "u3 prescribed at both"),
+        (
+            ("u1", "u2", "u3", "w1", "w2", "k3"),
+            ("w1", "w2", "w3", "u1", "u2", "u3"),
+            "u3 prescribed at both",
+        ),
         (("u1", "u2", "u3", "w1", "w2", "w3"), ENDS["clamped"].right, "must prescribe k3"),
         (("u1", "u2", "u3", "w1", "w2", "k3"), ("w1", "w2", "w3", "u1", "n1", "n3"), "u1 and n1"),
         (("u1", "u2", "u3", "w3", "w2", "k3"), ENDS["clamped"].right, "w3 and k3"),
@@ -79,7 +85,9 @@ def test_the_onset_twist_of_a_nonlinear_history_is_read_from_the_run():
     assert onset.kappa3 == pytest.approx(10.0 + 0.5 * onset.t_c**2, rel=1e-14)
     np.testing.assert_allclose(run.kappa3_left, hist(run.t), rtol=1e-9, atol=1e-9)
     i = np.searchsorted(run.t, onset.t_c)
-    assert onset.kappa3 == pytest.approx(run.kappa3_left[i], abs=abs(run.kappa3_left[i + 1] - run.kappa3_left[i]))
+    assert onset.kappa3 == pytest.approx(
+        run.kappa3_left[i], abs=abs(run.kappa3_left[i + 1] - run.kappa3_left[i])
+    )
     assert onset.kappa3 > 11.2335
 
 

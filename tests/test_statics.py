@@ -60,7 +60,7 @@ def test_three_routes_agree_for_isotropic_rods(ends, T):
         pytest.skip("beyond the Euler load of these ends")
     closed = S.critical_moment(ROD, T, ends) / ROD.C
     transfer = S.critical_twist_transfer(ROD, T, ends)
-    cheb = S.critical_twist_numerical(ROD, 40, T, ends)
+    cheb = S.critical_twist_numerical(ROD, 28, T, ends)
     assert transfer == pytest.approx(closed, rel=1e-8)
     assert cheb == pytest.approx(closed, rel=1e-8)
 

@@ -85,17 +85,27 @@ def test_scene_params_name_everything():
     variants = {
         "kappa0": S.Scene(a=1.6, kappa0=0.0),
         "a": S.Scene(a=1.7),
-        **{f"rod.{k}": S.Scene(a=1.6, rod=Rod().with_(**{k: v}))
-           for k, v in dict(E=1.3e7, nu=0.3, D=1.1e-3, L=1.1, rho=5000.0).items()},
+        **{
+            f"rod.{k}": S.Scene(a=1.6, rod=Rod().with_(**{k: v}))
+            for k, v in dict(E=1.3e7, nu=0.3, D=1.1e-3, L=1.1, rho=5000.0).items()
+        },
         "ellipse": S.Scene(a=1.6, rod=Rod.elliptic(a=0.55e-3, b=0.5e-3)),
         "ellipse.a": S.Scene(a=1.6, rod=Rod.elliptic(a=0.56e-3, b=0.5e-3)),
         "ellipse.b": S.Scene(a=1.6, rod=Rod.elliptic(a=0.55e-3, b=0.51e-3)),
         "ellipse turned": S.Scene(a=1.6, rod=Rod.elliptic(a=0.5e-3, b=0.55e-3)),
         "rectangle": S.Scene(a=1.6, rod=Rod.rectangular(w=1e-3, h=0.9e-3)),
         "given": S.Scene(a=1.6, rod=Rod.from_properties(**props)),
-        **{f"given.{k}": S.Scene(a=1.6, rod=Rod.from_properties(**(props | {k: v})))
-           for k, v in dict(B1=6.1e-7, B2=7.1e-7, C=5.1e-7, mass_per_length=1.3e-3,
-                            rotary_inertia=(7e-11, 8e-11, 1.6e-10), thickness=2e-3).items()},
+        **{
+            f"given.{k}": S.Scene(a=1.6, rod=Rod.from_properties(**(props | {k: v})))
+            for k, v in dict(
+                B1=6.1e-7,
+                B2=7.1e-7,
+                C=5.1e-7,
+                mass_per_length=1.3e-3,
+                rotary_inertia=(7e-11, 8e-11, 1.6e-10),
+                thickness=2e-3,
+            ).items()
+        },
         "polynomial": S.Scene(history=Polynomial((10.0, 1.6)), t_end=T),
         "polynomial'": S.Scene(history=Polynomial((10.0, 1.6, 0.1)), t_end=T),
         "ramp-hold": S.Scene(history=RampHold(a=1.6, hold=20.0, kappa0=10.0), t_end=T),
@@ -112,8 +122,11 @@ def test_scene_params_name_everything():
         "tension rate": S.Scene(a=1.6, tension=AxialLoad(0.0, 1e-7), t_end=T),
         "ends": S.Scene(a=1.6, ends="clamped-free-lateral", t_end=T),
         "ends object": S.Scene(
-            a=1.6, t_end=T,
-            ends=Ends("mine", ("u1", "u2", "u3", "w1", "w2", "k3"), ("w1", "w2", "w3", "n1", "u2", "n3")),
+            a=1.6,
+            t_end=T,
+            ends=Ends(
+                "mine", ("u1", "u2", "u3", "w1", "w2", "k3"), ("w1", "w2", "w3", "n1", "u2", "n3")
+            ),
         ),  # fmt: skip
         "terms": S.Scene(a=1.6, terms=(("gyro", 0.0),)),
         "terms weight": S.Scene(a=1.6, terms=(("gyro", 0.5),)),
@@ -139,9 +152,10 @@ def test_scene_params_name_everything():
     assert S.Scene(a=1.6).params() == base.params()
     assert S.Scene(a=2).params()["history"]["a"] == 2.0 and isinstance(S.Scene(a=2).a, float)
     # the same scene spelled two ways has one key
-    assert S.Scene(a=1.6, terms={"gyro": 0.0, "wxu": 1.0}).params() == S.Scene(
-        a=1.6, terms=(("wxu", 1.0), ("gyro", 0.0))
-    ).params()
+    assert (
+        S.Scene(a=1.6, terms={"gyro": 0.0, "wxu": 1.0}).params()
+        == S.Scene(a=1.6, terms=(("wxu", 1.0), ("gyro", 0.0))).params()
+    )
     assert S.Scene(a=1.6, tension=0.0).params() == base.params()
     assert S.Scene(a=1.6, rod=Rod(section=Section.circle(1e-3), D=None)).params() == base.params()
 

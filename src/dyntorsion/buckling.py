@@ -16,7 +16,8 @@ import numpy as np
 
 from . import shapes
 from .genalpha import ConvergenceError, Newton, Run, Scheme, integrate
-from .loading import AxialLoad, Ends, History, Ramp, ends as _ends
+from .loading import AxialLoad, Ends, History, Ramp
+from .loading import ends as _ends
 from .model import Cosserat
 from .rod import Rod
 from .statics import (

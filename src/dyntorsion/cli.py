@@ -17,7 +17,7 @@ from .fidelity import LEVELS
 from .loading import ENDS, AxialLoad, Polynomial, RampHold, Tabulated
 from .results import ON_STALE, Store
 from .rod import Rod
-from .sweep import KIND, default_store, PRESETS, Scene, cached, preset, run_scene, run_sweep
+from .sweep import KIND, PRESETS, Scene, cached, default_store, preset, run_scene, run_sweep
 
 
 def _numbers(text: str, n: int | None, what: str) -> list[float]:
@@ -38,8 +38,12 @@ def _scene_options(p: argparse.ArgumentParser, kappa0: float) -> None:
     g.add_argument("--L", type=float, default=1.0, help="length [m]")
     sec = g.add_mutually_exclusive_group()
     sec.add_argument("--D", type=float, default=None, help="diameter of a circle [m] (1e-3)")
-    sec.add_argument("--ellipse", metavar="A,B", help="elliptic section: semi-axes along d1, d2 [m]")
-    sec.add_argument("--rectangle", metavar="W,H", help="rectangular section: width (d1), height (d2) [m]")
+    sec.add_argument(
+        "--ellipse", metavar="A,B", help="elliptic section: semi-axes along d1, d2 [m]"
+    )
+    sec.add_argument(
+        "--rectangle", metavar="W,H", help="rectangular section: width (d1), height (d2) [m]"
+    )
     sec.add_argument(
         "--properties",
         metavar="B1,B2,C,RHOA,RHOI1,RHOI2,RHOI3,THICKNESS",
@@ -57,7 +61,9 @@ def _scene_options(p: argparse.ArgumentParser, kappa0: float) -> None:
     )
     g.add_argument("--tension", type=float, default=0.0, help="axial end load [N], > 0 tension")
     g.add_argument("--tension-rate", type=float, default=0.0, help="its rate [N/s]")
-    g.add_argument("--ends", choices=sorted(ENDS), default="clamped", help="end conditions (clamped: eq 30)")
+    g.add_argument(
+        "--ends", choices=sorted(ENDS), default="clamped", help="end conditions (clamped: eq 30)"
+    )
     g = p.add_argument_group("seed and grid")
     g.add_argument(
         "--seed",
@@ -90,7 +96,13 @@ def _rod(args: argparse.Namespace) -> Rod:
     if args.properties:
         B1, B2, C, rhoA, r1, r2, r3, t = _numbers(args.properties, 8, "--properties")
         return Rod.from_properties(
-            L=args.L, B1=B1, B2=B2, C=C, mass_per_length=rhoA, rotary_inertia=(r1, r2, r3), thickness=t
+            L=args.L,
+            B1=B1,
+            B2=B2,
+            C=C,
+            mass_per_length=rhoA,
+            rotary_inertia=(r1, r2, r3),
+            thickness=t,
         )
     mat = dict(E=args.E, nu=args.nu, L=args.L, rho=args.rho)
     if args.ellipse:
@@ -122,9 +134,13 @@ def _history(args: argparse.Namespace, a: float | None) -> dict:
         try:
             t, k = np.loadtxt(rest, delimiter=None, unpack=True, ndmin=2)
         except (OSError, ValueError) as err:
-            raise ValueError(f"--history table:{rest}: cannot read two columns t, kappa ({err})") from None
+            raise ValueError(
+                f"--history table:{rest}: cannot read two columns t, kappa ({err})"
+            ) from None
         return {"history": Tabulated(tuple(t), tuple(k))}
-    raise ValueError(f"--history={args.history!r}; allowed: ramp, ramp-hold:HOLD[,TAU], poly:C0,C1,..., table:FILE")
+    raise ValueError(
+        f"--history={args.history!r}; allowed: ramp, ramp-hold:HOLD[,TAU], poly:C0,C1,..., table:FILE"
+    )
 
 
 def _scene(args: argparse.Namespace, a: float | None) -> Scene:
@@ -132,7 +148,8 @@ def _scene(args: argparse.Namespace, a: float | None) -> Scene:
     seed = Perturbation(magnitude=args.seed, form=args.seed_form, location=args.seed_location)
     grid = fidelity.get(
         "buckling",
-        args.fidelity or fidelity.Fidelity(args.n_cells, args.dt, lam_s=args.lam_s, lam_t=args.lam_t),
+        args.fidelity
+        or fidelity.Fidelity(args.n_cells, args.dt, lam_s=args.lam_s, lam_t=args.lam_t),
         rod=rod,
     )
     return Scene(
@@ -155,7 +172,9 @@ def _rates(text: str) -> list[float]:
             if len(parts) != 3:
                 raise IndexError
         except (IndexError, ValueError):
-            raise ValueError(f"--rates {text!r}: write geom:LO:HI:N (e.g. geom:0.05:16:12)") from None
+            raise ValueError(
+                f"--rates {text!r}: write geom:LO:HI:N (e.g. geom:0.05:16:12)"
+            ) from None
         if not (0 < lo < hi and n >= 2):
             raise ValueError(f"--rates {text!r}: need 0 < LO < HI and N >= 2")
         return [float(v) for v in np.geomspace(lo, hi, n)]
@@ -245,15 +264,17 @@ def _print_fit(rows: list[dict]) -> None:
 def _fit_rows(table, scenes: list[Scene]) -> list[dict]:
     rows = []
     for (_, r), sc in zip(table.iterrows(), scenes, strict=True):
-        label = sc.label().split(" ", 1)[1] if sc.history is None else sc.label()
+        label = sc.label().split(" ", 1)[1] if sc.history is None else sc.label()  # drop a=
         rows.append(
             {
                 "a": sc.twist.rate,
-                "kappa3": None if r["kappa3"] is None or r["kappa3"] != r["kappa3"] else r["kappa3"],
+                "kappa3": None
+                if r["kappa3"] is None or r["kappa3"] != r["kappa3"]
+                else r["kappa3"],
                 "family": r["family"],
                 "rod": sc.rod,
                 "scene": sc,
-                "label": f"[{label.split(' N=')[0]} N={sc.n_cells} dt={sc.dt:g}]",
+                "label": f"[{label}]",
             }
         )
     return rows
@@ -366,7 +387,9 @@ def parser() -> argparse.ArgumentParser:
     sub = p.add_subparsers(dest="command", required=True)
 
     b = sub.add_parser("buckle", help="one buckling scene: print t_c and kappa3")
-    b.add_argument("--a", type=float, default=None, help="loading rate [rad/(m s)] (ramp histories)")
+    b.add_argument(
+        "--a", type=float, default=None, help="loading rate [rad/(m s)] (ramp histories)"
+    )
     _scene_options(b, kappa0=0.0)
     b.add_argument(
         "--store", default=None, help="cache folder: read the scene from it, or compute and add it"
@@ -383,7 +406,9 @@ def parser() -> argparse.ArgumentParser:
     )
     s.add_argument("--rates", default=None, help="'0.1,0.4,1.6' or 'geom:LO:HI:N'")
     _scene_options(s, kappa0=10.0)
-    s.add_argument("--store", default=None, help="cache folder (default: $DYNTORSION_DATA, else data/scenes)")
+    s.add_argument(
+        "--store", default=None, help="cache folder (default: $DYNTORSION_DATA, else data/scenes)"
+    )
     s.add_argument("--jobs", type=int, default=1, help="local worker processes")
     s.add_argument(
         "--dask-local",
@@ -410,7 +435,9 @@ def parser() -> argparse.ArgumentParser:
         choices=sorted(_linear_presets()),
         help="a named set of predictions (repeatable)",
     )
-    lin.add_argument("--store", default=None, help="cache folder (default: $DYNTORSION_DATA, else data/scenes)")
+    lin.add_argument(
+        "--store", default=None, help="cache folder (default: $DYNTORSION_DATA, else data/scenes)"
+    )
     lin.add_argument("--jobs", type=int, default=1, help="local worker processes")
     lin.add_argument("--on-stale", choices=ON_STALE, default="recompute")
     lin.add_argument("--quiet", action="store_true", help="no log")
@@ -420,7 +447,9 @@ def parser() -> argparse.ArgumentParser:
         "fit", help="fit eq (33) to cached sweeps: a preset, or every rate sweep in a store"
     )
     f.add_argument("--preset", choices=sorted(PRESETS), default=None)
-    f.add_argument("--store", default=None, help="cache folder (default: $DYNTORSION_DATA, else data/scenes)")
+    f.add_argument(
+        "--store", default=None, help="cache folder (default: $DYNTORSION_DATA, else data/scenes)"
+    )
     f.set_defaults(func=_fit)
     return p
 

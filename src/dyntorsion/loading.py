@@ -74,7 +74,12 @@ class History:
         return float(self(np.zeros(1))[0])
 
     def label(self) -> str:
-        return self.kind + "(" + ", ".join(f"{k}={v}" for k, v in self.params().items() if k != "kind") + ")"
+        return (
+            self.kind
+            + "("
+            + ", ".join(f"{k}={v}" for k, v in self.params().items() if k != "kind")
+            + ")"
+        )
 
 
 @dataclass(frozen=True)
@@ -145,7 +150,13 @@ class RampHold(History):
         return self.hold + self.a * self.tau * (x - np.logaddexp(0.0, x))
 
     def params(self) -> dict[str, Any]:
-        return {"kind": "ramp-hold", "a": self.a, "hold": self.hold, "kappa0": self.kappa0, "tau": self.tau}
+        return {
+            "kind": "ramp-hold",
+            "a": self.a,
+            "hold": self.hold,
+            "kappa0": self.kappa0,
+            "tau": self.tau,
+        }
 
 
 @dataclass(frozen=True)
@@ -197,7 +208,9 @@ class Custom(History):
         object.__setattr__(self, "parameters", tuple(sorted((str(k), _finite(k, v)) for k, v in p)))
 
     def __call__(self, t):
-        out = np.asarray(self.func(np.asarray(t, dtype=float), **dict(self.parameters)), dtype=float)
+        out = np.asarray(
+            self.func(np.asarray(t, dtype=float), **dict(self.parameters)), dtype=float
+        )
         return np.broadcast_to(out, np.shape(t)).astype(float)
 
     def source_hash(self) -> str:
@@ -234,7 +247,9 @@ def history_from_params(p: Mapping[str, Any]) -> History:
             f"history {q.get('name')!r} is a custom function: rebuild its Scene in Python "
             "with the same Custom(name, func, parameters)"
         )
-    raise ValueError(f"history kind={kind!r}; allowed: ramp, polynomial, ramp-hold, tabulated, custom")
+    raise ValueError(
+        f"history kind={kind!r}; allowed: ramp, polynomial, ramp-hold, tabulated, custom"
+    )
 
 
 def ends_from_params(p: Mapping[str, Any]) -> Ends:
@@ -294,7 +309,9 @@ class Ends:
             object.__setattr__(self, side, names)
             unknown = set(names) - set(FIELDS)
             if unknown:
-                raise IllPosedEndsError(f"{side} end: unknown field(s) {sorted(unknown)}; fields: {FIELDS}")
+                raise IllPosedEndsError(
+                    f"{side} end: unknown field(s) {sorted(unknown)}; fields: {FIELDS}"
+                )
             if len(set(names)) != len(names):
                 raise IllPosedEndsError(f"{side} end prescribes a field twice: {names}")
             if len(names) != 6:
@@ -341,7 +358,9 @@ class Ends:
             right = Boundary.fields(system, list(self.right), lambda t: np.outer(load(t), e_n3))
         else:
             if not load.is_zero:
-                raise IllPosedEndsError(f"ends {self.name!r} hold u3 at the far end: no axial load can act")
+                raise IllPosedEndsError(
+                    f"ends {self.name!r} hold u3 at the far end: no axial load can act"
+                )
             right = Boundary.fields(system, list(self.right))
         return left, right
 

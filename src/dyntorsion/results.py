@@ -47,7 +47,11 @@ SCHEMA = 1
 #: function, class and module-level definition of the package reachable from these
 #: (``module:object`` or a whole ``module``), found by walking the code itself
 KIND_ROOTS: dict[str, tuple[str, ...]] = {
-    "buckling-onset": ("dyntorsion.sweep:run_scene", "dyntorsion.sweep:Scene", "dyntorsion.loading"),
+    "buckling-onset": (
+        "dyntorsion.sweep:run_scene",
+        "dyntorsion.sweep:Scene",
+        "dyntorsion.loading",
+    ),
     "linear-onset": (
         "dyntorsion.linear_stability:run_prediction",
         "dyntorsion.linear_stability:Prediction",
@@ -162,9 +166,7 @@ def _resolve(node: ast.AST, namespace: Mapping[str, Any]) -> Any:
 _MISSING = object()
 
 
-def reachable(
-    roots: tuple[str, ...] = DEFAULT_ROOTS, source=inspect.getsource
-) -> dict[str, str]:
+def reachable(roots: tuple[str, ...] = DEFAULT_ROOTS, source=inspect.getsource) -> dict[str, str]:
     """Every definition of the package that the code of ``roots`` can reach, each with
     its source (``qualified name -> source``): functions, classes (with their methods),
     compiled kernels (their Python source) and module-level assignments, following

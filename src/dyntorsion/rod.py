@@ -48,9 +48,7 @@ def _positive(name: str, value: Any, unit: str) -> float:
 def _rectangle_torsion(w: float, h: float, terms: int = 200) -> float:
     """Saint-Venant torsion constant of a w x h rectangle (series, e.g. Timoshenko & Goodier)."""
     long, short = max(w, h), min(w, h)
-    tail = sum(
-        math.tanh(n * math.pi * long / (2 * short)) / n**5 for n in range(1, 2 * terms, 2)
-    )
+    tail = sum(math.tanh(n * math.pi * long / (2 * short)) / n**5 for n in range(1, 2 * terms, 2))
     return long * short**3 / 3 * (1 - 192 / math.pi**5 * short / long * tail)
 
 
@@ -89,7 +87,9 @@ class Section:
         a, b = _positive("a", a, "m"), _positive("b", b, "m")
         I1, I2 = math.pi * a * b**3 / 4.0, math.pi * a**3 * b / 4.0
         J = math.pi * a**3 * b**3 / (a**2 + b**2)
-        return cls("ellipse", (("a", a), ("b", b)), math.pi * a * b, I1, I2, J, I1 + I2, 2 * min(a, b))
+        return cls(
+            "ellipse", (("a", a), ("b", b)), math.pi * a * b, I1, I2, J, I1 + I2, 2 * min(a, b)
+        )
 
     @classmethod
     def rectangle(cls, w: float, h: float) -> Section:
@@ -97,7 +97,16 @@ class Section:
         the Saint-Venant series."""
         w, h = _positive("w", w, "m"), _positive("h", h, "m")
         I1, I2 = w * h**3 / 12.0, w**3 * h / 12.0
-        return cls("rectangle", (("w", w), ("h", h)), w * h, I1, I2, _rectangle_torsion(w, h), I1 + I2, min(w, h))
+        return cls(
+            "rectangle",
+            (("w", w), ("h", h)),
+            w * h,
+            I1,
+            I2,
+            _rectangle_torsion(w, h),
+            I1 + I2,
+            min(w, h),
+        )
 
 
 @dataclass(frozen=True)
@@ -279,7 +288,9 @@ class Rod:
         allowed = {"E", "nu", "D", "L", "rho", "section"}
         unknown = set(changes) - allowed
         if unknown:
-            raise ValueError(f"with_: unknown input(s) {sorted(unknown)}; allowed: {sorted(allowed)}")
+            raise ValueError(
+                f"with_: unknown input(s) {sorted(unknown)}; allowed: {sorted(allowed)}"
+            )
         inputs = {k: getattr(self, k) for k in allowed} | changes
         return Rod(**inputs)
 
@@ -312,7 +323,9 @@ class Rod:
         elif shape == "ellipse":
             rod = cls.elliptic(a=sec["a"], b=sec["b"], E=p["E"], nu=p["nu"], L=p["L"], rho=p["rho"])
         elif shape == "rectangle":
-            rod = cls.rectangular(w=sec["w"], h=sec["h"], E=p["E"], nu=p["nu"], L=p["L"], rho=p["rho"])
+            rod = cls.rectangular(
+                w=sec["w"], h=sec["h"], E=p["E"], nu=p["nu"], L=p["L"], rho=p["rho"]
+            )
         elif shape == "given":
             rod = cls.from_properties(
                 L=p["L"],

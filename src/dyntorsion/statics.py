@@ -123,7 +123,9 @@ def greenhill_clamped(B: float, L: float, tension: float = 0.0, digits: int = 40
             d = mpmath.sqrt(4 * B_ * T_ - M**2 + 0j)
             lp, lm = (1j * M + d) / (2 * B_), (1j * M - d) / (2 * B_)
             ep, em = mpmath.exp(lp * L_), mpmath.exp(lm * L_)
-            A = mpmath.matrix([[1, 0, 1, 1], [0, 1, lp, lm], [1, L_, ep, em], [0, 1, lp * ep, lm * em]])
+            A = mpmath.matrix(
+                [[1, 0, 1, 1], [0, 1, lp, lm], [1, L_, ep, em], [0, 1, lp * ep, lm * em]]
+            )
             v = mpmath.det(A) * mpmath.exp(-1j * M * L_ / (2 * B_)) / d
             return v.real + v.imag  # one of the two is zero to working precision
 
@@ -283,14 +285,17 @@ def _cheb(n: int) -> tuple[np.ndarray, np.ndarray]:
 
 
 def critical_twist_numerical(
-    rod: Rod, n: int = 40, tension: float = 0.0, ends: str = "clamped"
+    rod: Rod, n: int = 28, tension: float = 0.0, ends: str = "clamped"
 ) -> float:
     """Independent check of :func:`critical_twist` for isotropic rods: the smallest M at
     which B w'''' - i M w''' - T w'' = 0 (w = x + i y the lateral displacement) has a
     nontrivial solution, by Chebyshev collocation (a generalised eigenproblem in M).
 
     Clamped: w = w' = 0 at both ends.  Pinned (axial torque): w = 0 and
-    i B w'' + M w' = 0 (the end moment along the fixed axis)."""
+    i B w'' + M w' = 0 (the end moment along the fixed axis).  ``n`` + 1 points: the
+    truncation error is spectrally small by n = 20, while the round-off of the fourth
+    derivative matrix grows like n^8 eps, so the default n = 28 is near the best
+    (about 1e-11 clamped, 2e-10 pinned, relative to the closed forms)."""
     T = _check(rod, tension, ends)
     if not rod.isotropic:
         raise ValueError(

@@ -28,13 +28,13 @@ import numpy as np
 import pandas as pd
 
 from .buckling import BucklingRun, Perturbation, _load, detect_onset, simulate
+from .genalpha import Newton, Scheme
 from .loading import ENDS, AxialLoad, Ends, History, Ramp, ends_from_params, history_from_params
 from .loading import ends as _ends
-from .statics import critical_twist
-from .genalpha import Newton, Scheme
 from .model import Cosserat
 from .results import Store, digest
 from .rod import Rod
+from .statics import critical_twist, euler_load
 
 __all__ = [
     "Scene",
@@ -64,6 +64,7 @@ def default_store() -> Path:
     """The store used when none is given: ``$DYNTORSION_DATA`` if set, else :data:`DATA`."""
     env = os.environ.get("DYNTORSION_DATA")
     return Path(env) if env else DATA
+
 
 #: the paper's fit, eq (34); used only to choose how long a run may last
 PAPER_B, PAPER_SIGMA = 160.60, 0.5680
@@ -436,7 +437,11 @@ def cached_map(
     and each is written the moment it finishes.  ``show`` names a result entry for
     the log line; ``command`` is the one the missing-result error recommends.
     """
-    store = Store(default_store() if store is None else store) if not isinstance(store, Store) else store
+    store = (
+        Store(default_store() if store is None else store)
+        if not isinstance(store, Store)
+        else store
+    )
     if not isinstance(jobs, int) or jobs < 1:
         raise ValueError(f"jobs={jobs!r} must be an integer >= 1")
     say = log or (lambda msg: None)
@@ -577,6 +582,21 @@ def _mechanisms() -> list[Scene]:
     return [Scene(a=a, kappa0=10.0, **kw) for a in IMPERFECTION_RATES for kw in MECHANISMS.values()]
 
 
+#: the delay law under an axial load ("Tension and compression" page): loads as fractions
+#: of the clamped Euler load 4 pi^2 B / L^2, every third Fig 10 rate, the stated seed,
+#: and the pretwist at the paper's ratio kappa0 / kappa_cri = 10 / 11.2335 of each load
+TENSION_FRACTIONS: tuple[float, ...] = (-0.5, -0.25, 0.0, 0.5, 1.0)
+TENSION_RATES: tuple[float, ...] = FIG10_RATES[::3]
+
+
+def tension_scenes(fraction: float, rates: Iterable[float] = TENSION_RATES) -> list[Scene]:
+    """The rate sweep at axial load ``fraction`` x the clamped Euler load (Table 1 rod)."""
+    rod = Rod()
+    T = fraction * euler_load(rod, "clamped")
+    kappa0 = 10.0 if T == 0.0 else 10.0 * critical_twist(rod, T) / critical_twist(rod)
+    return [Scene(a=a, kappa0=kappa0, tension=T, seed=SEEDS["stated"]) for a in rates]
+
+
 def _newton(a: float, kappa0: float) -> list[Scene]:
     return [Scene(a=a, kappa0=kappa0, newton=Newton(tol=tol)) for tol in NEWTON_TOLS]
 
@@ -596,6 +616,7 @@ PRESETS: dict[str, Callable[[], list[Scene]]] = {
     "fig08-seeds": _fig08_seeds,
     "imperfection": _imperfection,
     "mechanisms": _mechanisms,
+    "tension": lambda: [sc for f in TENSION_FRACTIONS for sc in tension_scenes(f)],
 }
 
 

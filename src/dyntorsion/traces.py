@@ -60,7 +60,11 @@ def load(
 ) -> list[dict[str, Any]]:
     """The trace records of ``scenes`` from ``store`` (default data/scenes); missing or
     stale ones are computed with ``compute=True`` and refused otherwise."""
-    store = Store(default_store() if store is None else store) if not isinstance(store, Store) else store
+    store = (
+        Store(default_store() if store is None else store)
+        if not isinstance(store, Store)
+        else store
+    )
     out = []
     for sc in scenes:
         params = _params(sc, modes, samples)

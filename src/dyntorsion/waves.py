@@ -101,7 +101,9 @@ class Torsion:
         """
         ybar = 0.5 * (y[1:] + y[:-1])
         r = self.rod
-        return float(0.5 * ds * np.sum(r.rotary_inertia[2] * ybar[:, 1] ** 2 + r.C * ybar[:, 0] ** 2))
+        return float(
+            0.5 * ds * np.sum(r.rotary_inertia[2] * ybar[:, 1] ** 2 + r.C * ybar[:, 0] ** 2)
+        )
 
 
 # ===================================================================== transitions (Fig 5)
