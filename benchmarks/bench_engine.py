@@ -24,6 +24,7 @@ from scipy.linalg import solve_banded
 
 from dyntorsion import Rod, __version__, _abd
 from dyntorsion import genalpha as ga
+from dyntorsion.loading import EQ30
 from dyntorsion.model import IDX, Cosserat
 
 
@@ -43,10 +44,10 @@ def scene(n: int):
     system = model.system()
     kappa0, a = 10.0, 1.6
     left = ga.Boundary(
-        ga.Boundary.fields(system, ["u1", "u2", "u3", "w1", "w2", "k3"]).rows,
+        ga.Boundary.fields(system, list(EQ30.left)).rows,
         lambda t: np.outer(kappa0 + a * t, [0, 0, 0, 0, 0, 1.0]),
     )
-    right = ga.Boundary.fields(system, ["w1", "w2", "w3", "u1", "u2", "n3"])
+    right = ga.Boundary.fields(system, list(EQ30.right))
     y = np.zeros((n + 1, 12))
     y[:, IDX["k3"]] = kappa0
     return model, system, left, right, y

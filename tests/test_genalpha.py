@@ -5,6 +5,7 @@ import pytest
 
 from dyntorsion import Rod
 from dyntorsion import genalpha as ga
+from dyntorsion.loading import EQ30
 from dyntorsion.model import IDX, Cosserat
 from dyntorsion.verification import Manufactured
 from dyntorsion.waves import Torsion
@@ -225,10 +226,10 @@ def _buckling_like(quadrature, n=16, dt=2e-3, t_end=0.3, scheme=None, newton=Non
     y0 = np.zeros((n + 1, 12))
     y0[:, IDX["k3"]] = kappa0
     left = ga.Boundary(
-        ga.Boundary.fields(system, ["u1", "u2", "u3", "w1", "w2", "k3"]).rows,
+        ga.Boundary.fields(system, list(EQ30.left)).rows,
         lambda t: np.outer(kappa0 + a * t, [0, 0, 0, 0, 0, 1.0]),
     )
-    right = ga.Boundary.fields(system, ["w1", "w2", "w3", "u1", "u2", "n3"])
+    right = ga.Boundary.fields(system, list(EQ30.right))
     f = np.zeros((n + 1, 3))
     f[:, 0] = 1e-4
     times = list(np.arange(0, t_end + 1e-12, 0.05))
@@ -346,10 +347,10 @@ def test_max_iter_failure_raises_convergence_error():
     n = 8
     y0 = np.zeros((n + 1, 12))
     left = ga.Boundary(
-        ga.Boundary.fields(system, ["u1", "u2", "u3", "w1", "w2", "k3"]).rows,
+        ga.Boundary.fields(system, list(EQ30.left)).rows,
         lambda t: np.outer(500.0 * t, [1e-3, 0, 0, 0, 0, 1.0]),
     )
-    right = ga.Boundary.fields(system, ["w1", "w2", "w3", "u1", "u2", "n3"])
+    right = ga.Boundary.fields(system, list(EQ30.right))
     with pytest.raises(ga.ConvergenceError) as info:
         ga.integrate(
             system,

@@ -36,6 +36,7 @@ __all__ = [
     "AxialLoad",
     "Ends",
     "ENDS",
+    "EQ30",
     "ends",
     "IllPosedEndsError",
     "history_from_params",
@@ -400,6 +401,10 @@ ENDS: dict[str, Ends] = {
         ),
     )
 }
+
+
+#: the paper's end conditions, eq (30): the rows every eq (30) scene uses
+EQ30: Ends = ENDS["clamped"]
 
 
 def ends(value: str | Ends) -> Ends:

@@ -14,12 +14,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import genalpha as ga
+from .loading import EQ30
 from .model import Cosserat
 from .rod import Rod
 
 #: the boundary rows of eq (30): prescribed fields at s = 0 and s = L
-LEFT_FIELDS = ("u1", "u2", "u3", "w1", "w2", "k3")
-RIGHT_FIELDS = ("w1", "w2", "w3", "u1", "u2", "n3")
+LEFT_FIELDS, RIGHT_FIELDS = EQ30.left, EQ30.right
 
 
 @dataclass(frozen=True)
