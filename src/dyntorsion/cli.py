@@ -235,6 +235,8 @@ def _print_fit(rows: list[dict]) -> None:
                 pts.append(r)
         head = pts[0]
         name = head["label"]
+        if len(pts) == 1:
+            continue  # a single scene, not a rate sweep
         if len(pts) < 4:
             print(
                 f"fit {name}: {len(pts)} rate(s) with an onset; eq (33) needs at least 4 "

@@ -246,7 +246,8 @@ class Scene:
             if self.history is None
             else self.history.label()
         )
-        rod = "" if self.rod == Rod(rho=self.rod.rho) else f" rod=[{self.rod.describe()}]"
+        plain = self.rod.rho is not None and self.rod == Rod(rho=self.rod.rho)
+        rod = "" if plain else f" rod=[{self.rod.describe()}]"
         return (
             f"{twist} rho={self.rod.rho if self.rod.rho is not None else '-'}{rod} "
             f"seed={self.seed.magnitude:g} N={self.n_cells} dt={self.dt:g}"

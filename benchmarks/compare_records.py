@@ -1,0 +1,104 @@
+"""Compare the buckling records of an older commit with the current store, scene by scene.
+
+Old records (any earlier key layout) are mapped to today's :class:`~dyntorsion.sweep.Scene`
+and looked up by today's key; their results are compared entry by entry.  Prints one line
+per preset-level summary and every scene whose numbers differ.
+
+    python benchmarks/compare_records.py 6fcb9be [--store data/scenes]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import subprocess
+import sys
+from collections import Counter
+
+from dyntorsion import Rod
+from dyntorsion import genalpha as ga
+from dyntorsion import results as R
+from dyntorsion import sweep as S
+from dyntorsion.buckling import Perturbation
+
+
+def old_records(commit: str, kind: str = S.KIND) -> list[dict]:
+    names = subprocess.run(
+        ["git", "ls-tree", "--name-only", f"{commit}:data/scenes"],
+        capture_output=True, text=True, check=True,
+    ).stdout.split()  # fmt: skip
+    out = []
+    for name in names:
+        if name.startswith(kind + "-"):
+            text = subprocess.run(
+                ["git", "show", f"{commit}:data/scenes/{name}"], capture_output=True, text=True, check=True
+            ).stdout
+            out.append(json.loads(text))
+    return out
+
+
+def scene_of(p: dict) -> S.Scene:
+    """Today's Scene for an old (pre-issue-14) params dict or a current one."""
+    if "history" in p:
+        return S.Scene.from_params(p)
+    model = p.get("model", {})
+    seed = dict(p["perturbation"])
+    seed["direction"] = tuple(seed["direction"])
+    return S.Scene(
+        a=p["a"],
+        kappa0=p["kappa0"],
+        rod=Rod(**p["rod"]),
+        seed=Perturbation(**seed),
+        n_cells=p["n_cells"],
+        dt=p["dt"],
+        t_end=p["t_end"],
+        scheme=ga.Scheme(**p["scheme"]),
+        newton=ga.Newton(**p["newton"]),
+        window=tuple(p["onset"]["window"]),
+        variations=tuple(tuple(v) for v in p["onset"]["variations"]),
+        terms=tuple(model.get("terms", {}).items()),
+        rotary_inertia_scale=model.get("rotary_inertia_scale", 1.0),
+    )
+
+
+def compare(old: dict, new: dict) -> tuple[str, float]:
+    """'identical', 'differs' (largest relative change of a shared number) or 'keys'."""
+    worst = 0.0
+    for k, v in old.items():
+        w = new.get(k)
+        if isinstance(v, float) and isinstance(w, float):
+            worst = max(worst, abs(w - v) / max(abs(v), 1e-300))
+        elif k == "stopped" and isinstance(v, str):
+            if v.split(" (")[0] != str(w).split(" (")[0]:
+                worst = max(worst, float("inf"))
+        elif v != w:
+            worst = max(worst, float("inf"))
+    return ("identical" if worst == 0.0 else "differs"), worst
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("commit")
+    ap.add_argument("--store", default=str(S.default_store()))
+    args = ap.parse_args(argv)
+    store = R.Store(args.store)
+    tally: Counter = Counter()
+    worst = 0.0
+    for rec in old_records(args.commit):
+        sc = scene_of(rec["params"])
+        path = store.path(S.KIND, sc.params())
+        if not path.exists():
+            tally["not recomputed"] += 1
+            continue
+        new = store.read(path)
+        verdict, rel = compare(rec["result"], new["result"])
+        tally[verdict] += 1
+        if verdict != "identical":
+            worst = max(worst, rel)
+            print(f"{verdict} (largest relative change {rel:.2g}): {sc.label()}")
+    print(", ".join(f"{n} {k}" for k, n in tally.items()), f"; largest relative change {worst:.2g}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
