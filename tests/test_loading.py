@@ -7,6 +7,8 @@ import warnings
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from dyntorsion import Rod, fidelity
 from dyntorsion import sweep as S
@@ -156,3 +158,34 @@ def test_table1_presets_are_unchanged_by_the_scaling():
 def test_a_step_far_beyond_the_tested_range_warns():
     with pytest.warns(GridWarning, match="T0"):
         simulate(STEEL, a=1.6, kappa0=10.0, n_cells=20, dt=0.02, t_end=0.04)
+
+
+# ------------------------------------------------------------------ property: any end set
+PAIRS = (("u1", "n1"), ("u2", "n2"), ("u3", "n3"), ("w1", "k1"), ("w2", "k2"), ("w3", "k3"))
+
+
+@settings(max_examples=25, deadline=None, derandomize=True)
+@given(
+    left=st.lists(st.booleans(), min_size=5, max_size=5),
+    right=st.lists(st.booleans(), min_size=6, max_size=6),
+)
+def test_any_end_set_is_refused_with_a_reason_or_runs(left, right):
+    """Each end prescribes one field of every conjugate pair (the structure of eq 30): the
+    set is either refused before a run with the reason, or the scene runs and honours
+    its twist history at s = 0."""
+    lf = tuple(PAIRS[i][b] for i, b in enumerate(left)) + ("k3",)
+    rf = tuple(PAIRS[i][b] for i, b in enumerate(right))
+    try:
+        e = Ends("probe", lf, rf)
+    except IllPosedEndsError as err:
+        assert "u3 prescribed at both ends" in str(err)
+        assert "u3" in lf and "u3" in rf
+        return
+    assert not ("u3" in lf and "u3" in rf)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", GridWarning)
+        run = simulate(
+            a=1.0, kappa0=5.0, n_cells=8, dt=0.01, t_end=0.05, ends=e, stop_at_contact=False
+        )
+    assert np.all(np.isfinite(run.u3_end))
+    np.testing.assert_allclose(run.kappa3_left, 5.0 + run.t, rtol=1e-9, atol=1e-9)

@@ -45,6 +45,18 @@ def _positive(name: str, value: Any, unit: str) -> float:
     return _number(name, value, f"(0, inf) {unit}".strip(), lambda x: x > 0)
 
 
+def _finite_section(name: str, dims: dict[str, float], make):
+    try:
+        sec = make()
+    except (ZeroDivisionError, OverflowError) as err:
+        raise ValueError(f"{name} section {dims} is beyond floating point: {err}") from None
+    for k in ("A", "I1", "I2", "J", "I3"):
+        v = getattr(sec, k)
+        if not (math.isfinite(v) and 1e-300 < v < 1e300):
+            raise ValueError(f"{name} section {dims}: derived {k} = {v!r} is beyond floating point")
+    return sec
+
+
 def _rectangle_torsion(w: float, h: float, terms: int = 200) -> float:
     """Saint-Venant torsion constant of a w x h rectangle (series, e.g. Timoshenko & Goodier)."""
     long, short = max(w, h), min(w, h)
@@ -75,38 +87,41 @@ class Section:
     def circle(cls, D: float) -> Section:
         """A circle of diameter D: A = pi D^2/4, I1 = I2 = A D^2/16, J = I3 = A D^2/8."""
         D = _positive("D", D, "m")
-        A = math.pi * D**2 / 4.0
-        I1 = A * D**2 / 16.0
-        J = A * D**2 / 8.0
-        return cls("circle", (("D", D),), A, I1, I1, J, J, D)
+
+        def make():
+            A = math.pi * D**2 / 4.0
+            I1 = A * D**2 / 16.0
+            J = A * D**2 / 8.0
+            return cls("circle", (("D", D),), A, I1, I1, J, J, D)
+
+        return _finite_section("circle", {"D": D}, make)
 
     @classmethod
     def ellipse(cls, a: float, b: float) -> Section:
         """Semi-axes a (along d1) and b (along d2): A = pi a b, I1 = pi a b^3/4,
         I2 = pi a^3 b/4, J = pi a^3 b^3/(a^2 + b^2)."""
         a, b = _positive("a", a, "m"), _positive("b", b, "m")
-        I1, I2 = math.pi * a * b**3 / 4.0, math.pi * a**3 * b / 4.0
-        J = math.pi * a**3 * b**3 / (a**2 + b**2)
-        return cls(
-            "ellipse", (("a", a), ("b", b)), math.pi * a * b, I1, I2, J, I1 + I2, 2 * min(a, b)
-        )
+
+        def make():
+            I1, I2 = math.pi * a * b**3 / 4.0, math.pi * a**3 * b / 4.0
+            J = math.pi * a**3 * b**3 / (a**2 + b**2)
+            dims = (("a", a), ("b", b))
+            return cls("ellipse", dims, math.pi * a * b, I1, I2, J, I1 + I2, 2 * min(a, b))
+
+        return _finite_section("ellipse", {"a": a, "b": b}, make)
 
     @classmethod
     def rectangle(cls, w: float, h: float) -> Section:
         """Width w (along d1), height h (along d2): I1 = w h^3/12, I2 = w^3 h/12, J from
         the Saint-Venant series."""
         w, h = _positive("w", w, "m"), _positive("h", h, "m")
-        I1, I2 = w * h**3 / 12.0, w**3 * h / 12.0
-        return cls(
-            "rectangle",
-            (("w", w), ("h", h)),
-            w * h,
-            I1,
-            I2,
-            _rectangle_torsion(w, h),
-            I1 + I2,
-            min(w, h),
-        )
+
+        def make():
+            I1, I2 = w * h**3 / 12.0, w**3 * h / 12.0
+            J = _rectangle_torsion(w, h)
+            return cls("rectangle", (("w", w), ("h", h)), w * h, I1, I2, J, I1 + I2, min(w, h))
+
+        return _finite_section("rectangle", {"w": w, "h": h}, make)
 
 
 @dataclass(frozen=True)
@@ -154,6 +169,15 @@ class Rod:
     T0: float = field(init=False)
 
     def __post_init__(self) -> None:
+        try:
+            self._derive()
+        except (ZeroDivisionError, OverflowError) as err:
+            raise ValueError(
+                f"the rod's inputs (E={self.E!r}, nu={self.nu!r}, D={self.D!r}, L={self.L!r}, "
+                f"rho={self.rho!r}, section={self.section!r}) are beyond floating point: {err}"
+            ) from None
+
+    def _derive(self) -> None:
         set_ = object.__setattr__
         L = _positive("L", self.L, "m")
         set_(self, "L", L)
