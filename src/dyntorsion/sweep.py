@@ -269,7 +269,10 @@ def _canonical_terms(terms: Any) -> tuple[tuple[str, float], ...]:
         raise ValueError(f"terms: switch(es) {twice} given more than once")
     out = []
     for k, v in pairs:
-        w = float(v)
+        try:
+            w = float(v)
+        except (TypeError, ValueError):
+            raise ValueError(f"terms[{k!r}]={v!r} must be a number (a weight, 1 = on)") from None
         if not math.isfinite(w):
             raise ValueError(f"terms[{k!r}]={v!r} must be a finite weight")
         out.append((str(k), w))
