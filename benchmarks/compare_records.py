@@ -31,7 +31,10 @@ def old_records(commit: str, kind: str = S.KIND) -> list[dict]:
     for name in names:
         if name.startswith(kind + "-"):
             text = subprocess.run(
-                ["git", "show", f"{commit}:data/scenes/{name}"], capture_output=True, text=True, check=True
+                ["git", "show", f"{commit}:data/scenes/{name}"],
+                capture_output=True,
+                text=True,
+                check=True,
             ).stdout
             out.append(json.loads(text))
     return out
