@@ -16,6 +16,13 @@ from .buckling import Perturbation, critical_twist, fit_power_law
 from .fidelity import LEVELS
 from .results import ON_STALE
 from .rod import Rod
+
+
+def _level(name: str) -> str:
+    try:
+        return fidelity.check_level(name)
+    except ValueError as err:
+        raise argparse.ArgumentTypeError(str(err)) from None
 from .sweep import DATA, PRESETS, Scene, cached, run_scene, run_sweep
 
 
@@ -37,9 +44,9 @@ def _scene_options(p: argparse.ArgumentParser, kappa0: float) -> None:
     g.add_argument("--seed-location", type=float, default=0.5, help="point seed position [m]")
     g.add_argument(
         "--fidelity",
-        choices=LEVELS,
+        type=_level,
         default=None,
-        help="grid preset (dyntorsion.fidelity); overrides --n-cells/--dt/--lam-*",
+        help=f"grid preset ({', '.join(LEVELS)}; dyntorsion.fidelity); overrides --n-cells/--dt/--lam-*",
     )
     g.add_argument("--n-cells", type=int, default=100, help="cells along the rod")
     g.add_argument("--dt", type=float, default=0.005, help="time step [s]")
