@@ -16,6 +16,7 @@ from .buckling import Perturbation, critical_twist, fit_power_law
 from .fidelity import LEVELS
 from .results import ON_STALE
 from .rod import Rod
+from .sweep import DATA, PRESETS, Scene, cached, run_scene, run_sweep
 
 
 def _level(name: str) -> str:
@@ -23,7 +24,6 @@ def _level(name: str) -> str:
         return fidelity.check_level(name)
     except ValueError as err:
         raise argparse.ArgumentTypeError(str(err)) from None
-from .sweep import DATA, PRESETS, Scene, cached, run_scene, run_sweep
 
 
 def _scene_options(p: argparse.ArgumentParser, kappa0: float) -> None:
