@@ -64,7 +64,7 @@ site-check: $(VENV)/.site-installed
 	@command -v chromium >/dev/null || { apt-get update -q && apt-get install -y -q chromium; }
 	@test -f docs/_build/quick/index.html || \
 	  DYNTORSION_FIDELITY=quick $(PY) -m sphinx -E -q -W --keep-going -b html docs docs/_build/quick
-	$(PY) docs/site_check.py docs/_build/quick --screens docs/_build/screens
+	$(PY) docs/site_check.py docs/_build/quick --screens docs/_build/screens --self-test
 
 ## lint: ruff check and ruff format --check (CI runs it beside the tests)
 LINTED := src tests benchmarks docs/conf.py docs/site_check.py

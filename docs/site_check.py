@@ -82,7 +82,10 @@ PROBE = r"""
   // glued values that came out as nan
   for (const el of document.querySelectorAll('.pasted-text, .pasted-inline'))
     if (/^\s*[-+]?nan\s*$/i.test(text(el))) out.push(['glue', 'glued nan']);
-  // horizontal overflow
+  // horizontal overflow (MathJax's assistive MathML is clipped, invisible: not measured)
+  const hide = document.createElement('style');
+  hide.textContent = 'mjx-assistive-mml { display: none !important; }';
+  document.head.appendChild(hide);
   const doc = document.documentElement;
   if (doc.scrollWidth > doc.clientWidth + 1)
     out.push(['overflow', 'page ' + doc.scrollWidth + ' px wide in ' + doc.clientWidth]);
@@ -96,6 +99,7 @@ PROBE = r"""
       out.push(['overflow', what + ' by ' + over + ' px: ' + text(el).trim().slice(0, 50)]);
     }
   }
+  hide.remove();
   const anchors = Array.from(document.querySelectorAll('[id]')).map((e) => e.id);
   const links = Array.from(document.querySelectorAll('a[href]')).map((a) => a.getAttribute('href'));
   return {problems: out, anchors: anchors, links: links};
@@ -176,12 +180,48 @@ def check(build: Path, screens: Path, chromium: str) -> dict[str, list[tuple[str
     return found
 
 
+# A page with one of each defect; --self-test asserts that every kind is caught.
+BAD_PAGE = """<!DOCTYPE html><html><head>
+<script src="https://cdn.example.org/mathjax.js"></script>
+<style>div.body { width: 400px; }</style></head><body><div class="body">
+<p>raw maths: \\(\\kappa_0\\)</p><span class="math">\\(x\\)</span>
+<p>a value {glue:text}`x`</p>
+<img src="missing.png" alt="a missing image">
+<img src="ok.svg">
+<a href="nowhere.html">broken link</a> <a href="#no-such-anchor">broken anchor</a>
+<div class="cell_output"><div class="output stderr"><pre>ValueError: bad</pre></div></div>
+<pre>a line of code far too long for the column it sits in, so that it runs out of its box sideways</pre>
+</div></body></html>"""
+OK_SVG = '<svg xmlns="http://www.w3.org/2000/svg" width="10" height="10"></svg>'
+KINDS = {"maths", "network", "glue", "image", "link", "python", "overflow"}
+
+
+def self_test(chromium: str, tmp: Path) -> None:
+    """Run the check on :data:`BAD_PAGE`; exit non-zero if a kind of defect goes unnoticed."""
+    (tmp / "site").mkdir(parents=True, exist_ok=True)
+    (tmp / "site" / "index.html").write_text(BAD_PAGE)
+    (tmp / "site" / "ok.svg").write_text(OK_SVG)
+    found = check(tmp / "site", tmp / "screens", chromium)["index.html"]
+    missed = KINDS - {kind for kind, _ in found}
+    if missed:
+        sys.exit(f"site-check self-test: defects of kind {sorted(missed)} were not caught: {found}")
+    print(f"site-check self-test: all {len(KINDS)} kinds of defect caught")
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("build", type=Path, help="a built HTML site (sphinx -b html)")
     ap.add_argument("--screens", type=Path, default=Path("docs/_build/screens"))
     ap.add_argument("--chromium", default=None, help="the browser executable")
+    ap.add_argument(
+        "--self-test", action="store_true", help="first check that a page of defects fails"
+    )
     args = ap.parse_args(argv)
+    if args.self_test:
+        import tempfile
+
+        with tempfile.TemporaryDirectory() as tmp:
+            self_test(chromium_path(args.chromium), Path(tmp))
     if not (args.build / "index.html").is_file():
         sys.exit(f"site-check: build={args.build} has no index.html")
     found = check(args.build, args.screens, chromium_path(args.chromium))

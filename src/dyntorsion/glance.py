@@ -154,10 +154,16 @@ def table() -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
+def _label(page: str) -> str:
+    """'figures/fig08.md' -> 'Fig 8', 'sections/waves.md' -> '§ waves'."""
+    name = page.split("/")[-1].removesuffix(".md")
+    return f"Fig {int(name[3:])}" if name.startswith("fig") else f"§ {name}"
+
+
 def sig(x: float, digits: int) -> str:
     """``x`` to ``digits`` significant figures, fixed-point (no exponent, no "-0")."""
     if x == 0 or not math.isfinite(x):
-        return f"{x:g}"
+        return f"{x + 0.0:g}"  # + 0.0: -0.0 becomes 0
     decimals = max(0, digits - 1 - math.floor(math.log10(abs(x))))
     out = f"{x:.{decimals}f}"
     return out[1:] if out.startswith("-") and float(out) == 0 else out
@@ -185,7 +191,7 @@ def compact(prefix: str = "") -> pd.DataFrame:
                 "ours": sig(r["ours"], digits),
                 "difference": "0 %" if abs(rel) < 5e-3 else f"{float(f'{rel:.2g}'):+g} %",
                 "verdict": r["verdict"],
-                "evidence": f"[{FIGURE_PAGE[r['id']].split('/')[-1][:-3]}]({prefix}{FIGURE_PAGE[r['id']]})",
+                "evidence": f"[{_label(FIGURE_PAGE[r['id']])}]({prefix}{FIGURE_PAGE[r['id']]})",
             }
         )
     return pd.DataFrame(rows)

@@ -32,7 +32,11 @@ STYLE = {
 
 
 def use_style() -> None:
+    """The figures' look (:data:`STYLE`); tables show a missing value as a dash, not "nan"."""
+    import pandas as pd
+
     matplotlib.rcParams.update(STYLE)
+    pd.set_option("styler.format.na_rep", "–")
 
 
 def project_root(start: Path | None = None) -> Path | None:
@@ -68,13 +72,13 @@ def save(fig, name: str) -> None:
 #: these characters need no network
 _ICONS = {
     "fa fa-minus": "\u2212",
-    "fa fa-fast-backward": "\u23ee",
-    "fa fa-step-backward": "\u25c0|",
+    "fa fa-fast-backward": "|\u25c0\u25c0",
+    "fa fa-step-backward": "|\u25c0",
     "fa fa-play fa-flip-horizontal": "\u25c0",
     "fa fa-pause": "\u275a\u275a",
     "fa fa-play": "\u25b6",
-    "fa fa-step-forward": "|\u25b6",
-    "fa fa-fast-forward": "\u23ed",
+    "fa fa-step-forward": "\u25b6|",
+    "fa fa-fast-forward": "\u25b6\u25b6|",
     "fa fa-plus": "+",
 }
 
