@@ -4,7 +4,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 PY     := $(BIN)/python
 
-.PHONY: test test-all paper docs data bench lint clean distclean
+.PHONY: test test-all paper docs data bench lint clean distclean site-check
 
 $(PY):
 	$(PYTHON) -m venv $(VENV)
@@ -52,8 +52,22 @@ data: $(VENV)/.test-installed
 	$(BIN)/dyntorsion linear $(foreach p,$(LINEAR_PRESETS),--preset $(p)) --jobs $(JOBS) --quiet
 	$(PY) -m dyntorsion.traces
 
+## site-check: open every page of the quick build (made by `make test`; built here when
+## missing) in headless Chromium: fails on untypeset maths, requests leaving the site,
+## broken images/links, Python errors, glue placeholders, sideways overflow.
+## Screenshots: docs/_build/screens/.  Installs Debian's chromium when it is missing.
+$(VENV)/.site-installed: pyproject.toml | $(PY)
+	$(PY) -m pip install --quiet -e '.[test,docs,site]'
+	touch $@
+
+site-check: $(VENV)/.site-installed
+	@command -v chromium >/dev/null || { apt-get update -q && apt-get install -y -q chromium; }
+	@test -f docs/_build/quick/index.html || \
+	  DYNTORSION_FIDELITY=quick $(PY) -m sphinx -E -q -W --keep-going -b html docs docs/_build/quick
+	$(PY) docs/site_check.py docs/_build/quick --screens docs/_build/screens --self-test
+
 ## lint: ruff check and ruff format --check (CI runs it beside the tests)
-LINTED := src tests benchmarks docs/conf.py
+LINTED := src tests benchmarks docs/conf.py docs/site_check.py
 lint: $(VENV)/.lint-installed
 	$(BIN)/ruff check $(LINTED)
 	$(BIN)/ruff format --check $(LINTED)

@@ -5,14 +5,54 @@ from importlib.metadata import version as _version
 project = "dyntorsion"
 author = "The dyntorsion developers"
 release = _version("dyntorsion")
-extensions = ["myst_nb", "sphinx.ext.autodoc", "sphinx.ext.napoleon", "sphinx.ext.mathjax"]
+# MathJax is served from the build (sphinx-mathjax-offline bundles MathJax 3): no
+# page loads anything from the network.
+extensions = [
+    "myst_nb",
+    "sphinx.ext.autodoc",
+    "sphinx.ext.napoleon",
+    "sphinx.ext.mathjax",
+    "sphinx-mathjax-offline",
+]
 myst_enable_extensions = ["dollarmath", "amsmath"]
 # notebooks always run: the jupyter cache would not see changes to src/
 nb_execution_mode = "force"
 nb_execution_raise_on_error = True
 nb_execution_timeout = 1800
-exclude_patterns = ["_build", "jupyter_execute", "**.ipynb_checkpoints"]
+exclude_patterns = ["_build", "jupyter_execute", "**.ipynb_checkpoints", "site_check.py"]
 html_theme = "alabaster"
 html_title = "dyntorsion"
+html_static_path = ["_static"]
+html_css_files = ["site.css"]
+# the body as wide as a 1280 px screen allows, so the equations fit
+html_theme_options = {"page_width": "1240px", "sidebar_width": "220px", "font_size": "16px"}
+# Markdown that cells display (the glance tables) is MyST: maths, tables, links to pages
+nb_render_markdown_format = "myst"
 autodoc_member_order = "bysource"
 autodoc_typehints = "description"
+
+
+def _alt_text(app, doctree, docname):
+    """Every image gets alt text: its figure's caption, else the title of its section."""
+    from docutils import nodes
+
+    for img in doctree.findall(nodes.image):
+        if img.get("alt") and img["alt"] != img.get("uri"):
+            continue
+        parent, caption = img.parent, None
+        while parent is not None and caption is None:
+            if isinstance(parent, nodes.figure):
+                caption = next(iter(parent.findall(nodes.caption)), None)
+            parent = parent.parent if caption is None else parent
+        if caption is None:
+            section = img.parent
+            while section is not None and not isinstance(section, nodes.section):
+                section = section.parent
+            title = section.next_node(nodes.title) if section is not None else None
+            img["alt"] = f"Plot: {title.astext() if title is not None else docname}"
+        else:
+            img["alt"] = caption.astext()
+
+
+def setup(app):
+    app.connect("doctree-resolved", _alt_text)

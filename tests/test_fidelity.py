@@ -37,7 +37,9 @@ def test_bad_fidelity(kw, name):
 def test_get_and_environment(monkeypatch):
     own = Fidelity(80, 0.004)
     assert fidelity.get("buckling", own) is own
-    assert fidelity.get("buckling", "paper") == Fidelity(200, 0.0025)
+    assert fidelity.get("buckling", "fine") == Fidelity(200, 0.0025)
+    with pytest.raises(ValueError, match="renamed: use 'fine'"):
+        fidelity.get("buckling", "paper")
     monkeypatch.setenv("DYNTORSION_FIDELITY", "quick")
     assert fidelity.get("waves") == fidelity.PRESETS["waves"]["quick"]
     monkeypatch.setenv("DYNTORSION_FIDELITY", "fast")
@@ -60,16 +62,21 @@ def test_cli_fidelity_flag(capsys):
     assert "N=50 dt=0.01" in capsys.readouterr().out
     assert main(["buckle", "--a", "10", "--lam-t", "0.5"]) == 2
     assert "lam_t" in capsys.readouterr().err
+    with pytest.raises(SystemExit):
+        main(["buckle", "--a", "10", "--fidelity", "paper"])
+    assert "renamed: use 'fine'" in capsys.readouterr().err
+    assert main(["buckle", "--a", "10", "--lam-t", "0.5"]) == 2
+    assert "lam_t" in capsys.readouterr().err
 
 
 # ------------------------------------------------------------------ measured accuracy
-LIMITS = {"quick": 0.01, "standard": 0.005, "paper": 0.001}
+LIMITS = {"quick": 0.01, "standard": 0.005, "fine": 0.001}
 
 
 @pytest.mark.parametrize("ladder", ["accuracy-fig08", "accuracy-fast"])
 def test_buckling_presets_meet_their_accuracy(ladder):
     """t_c of each preset against the finest grid of the committed ladder (N = 400,
-    dt = 0.00125): quick within 1 %, standard within 0.5 %, paper within 0.1 %."""
+    dt = 0.00125): quick within 1 %, standard within 0.5 %, fine within 0.1 %."""
     table = S.cached(ladder)
     ref = table[(table.n_cells == 400) & (table.dt == 0.00125)]["t_c"].iloc[0]
     for name, limit in LIMITS.items():
@@ -92,6 +99,6 @@ def test_wave_presets_converge_to_the_exact_release():
     assert errs[0] > errs[1] > errs[2]
     ratio = fidelity.get("waves", "standard").n_cells / fidelity.get("waves", "quick").n_cells
     order = np.log(errs[1] / errs[2]) / np.log(
-        fidelity.get("waves", "paper").n_cells / fidelity.get("waves", "standard").n_cells
+        fidelity.get("waves", "fine").n_cells / fidelity.get("waves", "standard").n_cells
     )
     assert ratio == 2 and 1.7 < order < 2.3

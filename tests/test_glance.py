@@ -53,3 +53,56 @@ def test_numbers_json_roundtrip(tmp_path, table):
     data = json.loads(path.read_text())
     assert len(data["rows"]) == len(table)
     assert not list(tmp_path.glob("*.tmp"))
+
+
+@pytest.mark.parametrize(
+    ("x", "digits", "text"),
+    [
+        (20.7921, 4, "20.79"),
+        (160.6, 5, "160.60"),
+        (0.0692816, 4, "0.06928"),
+        (-1e-9, 2, "-0.0000000010"),
+        (-0.00004, 1, "-0.00004"),
+        (14.7008, 4, "14.70"),
+    ],
+)
+def test_sig_keeps_the_significant_figures(x, digits, text):
+    assert glance.sig(x, digits) == text
+
+
+def test_sig_never_writes_minus_zero():
+    assert glance.sig(-0.0, 3) == "0"
+    assert glance.sig(-1e-12, 2) != "-0"
+
+
+def test_compact_table_for_the_site(table):
+    t = glance.compact(prefix="../")
+    assert len(t) == len(table)
+    assert list(t.columns) == [
+        "quantity",
+        "unit",
+        "seed",
+        "paper",
+        "ours",
+        "difference",
+        "verdict",
+        "evidence",
+    ]
+    # every quantity typeset, every row linked to an existing page of the site
+    assert t["quantity"].str.contains(r"\$").all()
+    docs = glance.PAPER.parent / "docs"
+    for link in t["evidence"]:
+        target = link[link.index("](") + 2 : -1].removeprefix("../")
+        assert (docs / target).is_file(), link
+    # the paper's value as stated (its digits), ours to the same significant figures
+    row = t[(t["quantity"] == "Fig 8: $t_c$") & (t["seed"] == "10⁻⁸ (stated)")].iloc[0]
+    assert row["paper"] == "20.86" and len(row["ours"].replace(".", "")) == 4
+    assert row["difference"].endswith(" %") and row["verdict"] == "differs"
+    assert not t["ours"].str.contains("nan|e[+-]", regex=True).any()
+    assert glance.markdown().count("\n") == len(t) + 1
+
+
+def test_verdict_by_id():
+    paper = glance.published()["fig8_tc"]["value"]
+    assert glance.verdict("fig8_tc", paper) == "agrees to the digits stated"
+    assert glance.verdict("fig8_tc", 0.7 * paper) == "differs"

@@ -30,6 +30,13 @@ def _numbers(text: str, n: int | None, what: str) -> list[float]:
     return vals
 
 
+def _level(name: str) -> str:
+    try:
+        return fidelity.check_level(name)
+    except ValueError as err:
+        raise argparse.ArgumentTypeError(str(err)) from None
+
+
 def _scene_options(p: argparse.ArgumentParser, kappa0: float) -> None:
     g = p.add_argument_group("rod (default: Table 1)")
     g.add_argument("--rho", type=float, default=1500.0, help="density [kg/m^3] (Table 1: 1500)")
@@ -75,9 +82,9 @@ def _scene_options(p: argparse.ArgumentParser, kappa0: float) -> None:
     g.add_argument("--seed-location", type=float, default=0.5, help="point seed position [m]")
     g.add_argument(
         "--fidelity",
-        choices=LEVELS,
+        type=_level,
         default=None,
-        help="grid preset (dyntorsion.fidelity), its time step scaled to the rod; "
+        help=f"grid preset ({', '.join(LEVELS)}; dyntorsion.fidelity), its time step scaled to the rod; "
         "overrides --n-cells/--dt/--lam-*",
     )
     g.add_argument("--n-cells", type=int, default=100, help="cells along the rod")

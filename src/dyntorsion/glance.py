@@ -23,7 +23,48 @@ from .results import write_json
 from .rod import Rod
 from .sweep import cached
 
-__all__ = ["PAPER", "published", "ours", "table", "write_numbers"]
+__all__ = [
+    "PAPER",
+    "FIGURE_PAGE",
+    "SYMBOL",
+    "published",
+    "ours",
+    "table",
+    "compact",
+    "markdown",
+    "sig",
+    "verdict",
+    "write_numbers",
+]
+
+#: how each published quantity is typeset on the site (MathJax), with its unit
+SYMBOL: dict[str, tuple[str, str]] = {
+    "c": (r"$c=\sqrt{G/\rho}$", "m/s"),
+    "m_cri": (r"$m_{\text{cri}}$", "–"),
+    "kappa_cri": (r"$\kappa_{\text{cri}}$, eq (32)", "m⁻¹"),
+    "T1": (r"$T=4L/c$", "s"),
+    "fig8_tc": (r"Fig 8: $t_c$", "s"),
+    "fig8_kappa3": (r"Fig 8: $\kappa_3$ at onset", "m⁻¹"),
+    "b": (r"$b$, eq (34)", "–"),
+    "sigma": (r"$\sigma$, eq (34)", "–"),
+    "law_fig8": (r"law's $t_c$, Fig 8", "s"),
+    "law_fig9": (r"law's $t_c$, Fig 9", "s"),
+    "kappa_cri_extrapolated": (r"Fig 10: $\kappa_3(a\to 0)$", "m⁻¹"),
+}
+#: the site page (relative to docs/) that shows the evidence for each quantity
+FIGURE_PAGE: dict[str, str] = {
+    "c": "sections/waves.md",
+    "m_cri": "sections/buckling.md",
+    "kappa_cri": "sections/buckling.md",
+    "T1": "sections/waves.md",
+    "fig8_tc": "figures/fig08.md",
+    "fig8_kappa3": "figures/fig08.md",
+    "b": "figures/fig10.md",
+    "sigma": "figures/fig10.md",
+    "law_fig8": "figures/fig10.md",
+    "law_fig9": "figures/fig09.md",
+    "kappa_cri_extrapolated": "figures/fig10.md",
+}
 
 PAPER = Path(__file__).resolve().parents[2] / "paper"
 
@@ -72,6 +113,12 @@ def ours() -> dict[str, list[tuple[str, float, str]]]:
     return out
 
 
+def verdict(pid: str, value: float) -> str:
+    """Our ``value`` of the published quantity ``pid`` judged against the paper's."""
+    p = published()[pid]
+    return _verdict(value / p["value"] - 1, p["digits"], p["value"])
+
+
 def _verdict(rel: float, digits: int, value: float) -> str:
     """'agrees' within the rounding of the paper's stated digits, else how far off."""
     rounding = 0.5 * 10 ** (math.floor(math.log10(abs(value))) - digits + 1) / abs(value)
@@ -105,6 +152,57 @@ def table() -> pd.DataFrame:
                 }
             )
     return pd.DataFrame(rows)
+
+
+def _label(page: str) -> str:
+    """'figures/fig08.md' -> 'Fig 8', 'sections/waves.md' -> '§ waves'."""
+    name = page.split("/")[-1].removesuffix(".md")
+    return f"Fig {int(name[3:])}" if name.startswith("fig") else f"§ {name}"
+
+
+def sig(x: float, digits: int) -> str:
+    """``x`` to ``digits`` significant figures, fixed-point (no exponent, no "-0")."""
+    if x == 0 or not math.isfinite(x):
+        return f"{x + 0.0:g}"  # + 0.0: -0.0 becomes 0
+    decimals = max(0, digits - 1 - math.floor(math.log10(abs(x))))
+    out = f"{x:.{decimals}f}"
+    return out[1:] if out.startswith("-") and float(out) == 0 else out
+
+
+def compact(prefix: str = "") -> pd.DataFrame:
+    """:func:`table` for the site: typeset quantity with its unit, the paper's value as
+    stated, ours to the paper's significant figures, the difference in percent (two
+    significant figures) and the verdict, linked (``prefix`` + page) to the evidence."""
+    pub, t = published(), table()
+    rows = []
+    for _, r in t.iterrows():
+        symbol, unit = SYMBOL[r["id"]]
+        digits = pub[r["id"]]["digits"]
+        rel = 100 * r["relative difference"]
+        rows.append(
+            {
+                "quantity": symbol,
+                "unit": unit,
+                "seed": r["variant"]
+                .replace("stated seed 1e-8 N/m", "10⁻⁸ (stated)")
+                .replace("seed 1e-17 N/m", "10⁻¹⁷")
+                or "–",
+                "paper": sig(r["paper"], digits),
+                "ours": sig(r["ours"], digits),
+                "difference": "0 %" if abs(rel) < 5e-3 else f"{float(f'{rel:.2g}'):+g} %",
+                "verdict": r["verdict"],
+                "evidence": f"[{_label(FIGURE_PAGE[r['id']])}]({prefix}{FIGURE_PAGE[r['id']]})",
+            }
+        )
+    return pd.DataFrame(rows)
+
+
+def markdown(prefix: str = "") -> str:
+    """:func:`compact` as a MyST table (the site displays it with ``IPython.display.Markdown``)."""
+    t = compact(prefix)
+    lines = ["| " + " | ".join(t.columns) + " |", "|" + "---|" * len(t.columns)]
+    lines += ["| " + " | ".join(str(v) for v in row) + " |" for row in t.itertuples(index=False)]
+    return "\n".join(lines)
 
 
 def write_numbers(path: str | os.PathLike[str] | None = None) -> Path:

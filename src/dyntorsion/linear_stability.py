@@ -493,7 +493,7 @@ class LateralModel:
 
 
 # ======================================================================= cached predictions
-#: record kind of a cached linear prediction (its code fingerprint: results.KIND_CODE)
+#: record kind of a cached linear prediction (its code fingerprint: results.KIND_ROOTS)
 KIND = "linear-onset"
 
 

@@ -1,0 +1,49 @@
+"""The figures' look and the offline animation player."""
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import matplotlib.pyplot as plt  # noqa: E402
+import pytest  # noqa: E402
+from matplotlib import animation  # noqa: E402
+
+from dyntorsion import plotting  # noqa: E402
+
+
+def test_style_is_readable():
+    plotting.use_style()
+    rc = matplotlib.rcParams
+    assert rc["figure.dpi"] >= 150 and rc["savefig.dpi"] >= 150
+    for key in (
+        "font.size",
+        "axes.labelsize",
+        "xtick.labelsize",
+        "ytick.labelsize",
+        "legend.fontsize",
+    ):
+        assert float(rc[key]) >= 9, key
+
+
+def test_animation_player_needs_no_network():
+    fig, ax = plt.subplots()
+    (line,) = ax.plot([0, 1], [0, 1])
+    anim = animation.FuncAnimation(fig, lambda i: (line,), frames=3)
+    html = plotting.offline_jshtml(anim, alt="a test frame", default_mode="once")
+    plt.close(fig)
+    assert "http://" not in html and "https://" not in html
+    assert 'class="fa' not in html
+    assert 'alt="a test frame"' in html
+    assert "\u25b6" in html  # the play button has a label
+
+
+def test_animation_player_refuses_a_network_reference(monkeypatch):
+    fig, ax = plt.subplots()
+    anim = animation.FuncAnimation(fig, lambda i: (), frames=2)
+    anim._draw_was_started = True  # never drawn here: no "deleted without rendering" warning
+    monkeypatch.setattr(
+        anim, "to_jshtml", lambda **kw: '<script src="https://cdn.example.org/x.js"></script>'
+    )
+    with pytest.raises(RuntimeError, match="network"):
+        plotting.offline_jshtml(anim, alt="x")
+    plt.close(fig)
