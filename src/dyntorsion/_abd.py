@@ -23,12 +23,27 @@ The last node is an nf x nf dense LU in ``Wl``/``pivl``.
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
-from ._numba import jit
+from ._numba import A1, A2, A3, I1, I2, jit, named
 
 
-def allocate(n_cells: int, nf: int, nbl: int):
+class Factors(NamedTuple):
+    """LU factors of the staircase matrix (see the module docstring) and a work vector."""
+
+    W: np.ndarray
+    piv: np.ndarray
+    Wl: np.ndarray
+    pivl: np.ndarray
+    v: np.ndarray
+
+
+FACTORS = named(Factors, A3, I2, A2, I1, A1)
+
+
+def allocate(n_cells: int, nf: int, nbl: int) -> Factors:
     """Work arrays for :func:`factor` and :func:`solve`."""
     m = nbl + nf
     W = np.zeros((n_cells, m, 2 * nf))
@@ -36,7 +51,7 @@ def allocate(n_cells: int, nf: int, nbl: int):
     Wl = np.zeros((nf, nf))
     pivl = np.zeros(nf, dtype=np.int64)
     v = np.zeros(m)
-    return W, piv, Wl, pivl, v
+    return Factors(W, piv, Wl, pivl, v)
 
 
 @jit

@@ -41,6 +41,14 @@ A3 = numba.types.float64[:, :, ::1]
 I1 = numba.types.int64[::1]
 I2 = numba.types.int64[:, ::1]
 
+
+def named(cls, *field_types):
+    """The numba type of the NamedTuple ``cls`` with fields of ``field_types`` (for signatures)."""
+    if all(t == field_types[0] for t in field_types):
+        return numba.types.NamedUniTuple(field_types[0], len(field_types), cls)
+    return numba.types.NamedTuple(field_types, cls)
+
+
 #: signature of a model's load vector  F(y, params, out)
 LOAD_SIGNATURE = numba.types.void(A1, A1, A1)
 #: signature of a model's load Jacobian  dF(y, params, out)

@@ -1,0 +1,377 @@
+"""The driver: validation, sources, the initial rate, the recording plan, the chunked
+time march (:mod:`.march`) between checks, and the :class:`Run` it returns."""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from .discrete import setup
+from .initial import consistent_rates
+from .march import Forcing, Recording, full_newton_iterations, march
+from .newton import REASONS, ConvergenceError, Newton, Status
+from .scheme import Scheme
+from .system import Boundary, System
+
+__all__ = ["Run", "integrate", "newton_iteration_kernel"]
+
+
+@dataclass
+class Run:
+    """The outcome of :func:`integrate`.
+
+    Attributes
+    ----------
+    t
+        Times at which the traces were recorded (t_0 first).
+    traces
+        Name -> array over ``t`` (the recorded fields at their nodes).
+    snapshot_times, snapshots
+        Whole fields (n_snap, N+1, nf) at chosen times.
+    iterations, residual_evaluations, factorisations
+        Newton statistics per step.
+    retries
+        1 for a step whose first Newton solve failed and was retried (from the
+        other predictor, refactorising at every iteration), else 0.
+    y, y_t
+        The state and its time derivative at the last completed level.
+    stopped
+        Why the run ended (``"t_end"`` or the reason returned by ``stop``).
+    """
+
+    s: np.ndarray
+    t: np.ndarray
+    traces: dict[str, np.ndarray]
+    snapshot_times: np.ndarray
+    snapshots: np.ndarray
+    iterations: np.ndarray
+    residual_evaluations: np.ndarray
+    factorisations: np.ndarray
+    residuals: np.ndarray
+    retries: np.ndarray
+    y: np.ndarray
+    y_t: np.ndarray
+    t_final: float
+    steps: int
+    wall_time: float
+    stopped: str
+    names: tuple[str, ...]
+    meta: dict[str, Any] = field(default_factory=dict)
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        return self.traces[name]
+
+    def snapshot(self, t: float) -> np.ndarray:
+        """Whole state at the snapshot time nearest to t."""
+        if len(self.snapshot_times) == 0:
+            raise ValueError("this run recorded no snapshots")
+        return self.snapshots[int(np.argmin(np.abs(self.snapshot_times - t)))]
+
+    def field(self, name: str, t: float) -> np.ndarray:
+        return self.snapshot(t)[:, self.names.index(name)]
+
+
+def _check_positive(name: str, value: float) -> None:
+    if not (
+        isinstance(value, int | float | np.floating | np.integer)
+        and math.isfinite(value)
+        and value > 0
+    ):
+        raise ValueError(f"{name}={value!r} must be a finite number > 0")
+
+
+def _validate(system, n_cells, length, dt, t_end, t0, record_every, y0, left, right):
+    """The arguments of :func:`integrate` that need no other context; y0 as an array."""
+    if not isinstance(n_cells, int | np.integer) or n_cells < 2:
+        raise ValueError(f"n_cells={n_cells!r} must be an integer >= 2")
+    _check_positive("length", length)
+    _check_positive("dt", dt)
+    if not (math.isfinite(t_end) and math.isfinite(t0) and t_end > t0):
+        raise ValueError(f"t_end={t_end!r} must be finite and > t0={t0!r}")
+    if not (isinstance(record_every, int) and record_every >= 1):
+        raise ValueError(f"record_every={record_every!r} must be an integer >= 1")
+    nf = system.nf
+    y0 = np.array(y0, dtype=float)
+    if y0.shape != (n_cells + 1, nf):
+        raise ValueError(f"y0 has shape {y0.shape}, expected (n_cells+1, nf) = {(n_cells + 1, nf)}")
+    if not np.all(np.isfinite(y0)):
+        raise ValueError("y0 contains NaN or inf")
+    if left.rows.shape[1] != nf or right.rows.shape[1] != nf or left.nb + right.nb != nf:
+        raise ValueError(
+            f"boundary rows: need nb_left + nb_right = {nf} rows of {nf} columns, got "
+            f"{left.rows.shape} and {right.rows.shape}"
+        )
+    return y0
+
+
+@dataclass(frozen=True)
+class _Source:
+    """q(s, t) = q_space(s) q_time(t) + field(s, t)  (either part may be absent)."""
+
+    s: np.ndarray
+    q_space: np.ndarray
+    q_time: Callable[[np.ndarray], np.ndarray]
+    field: Callable[[np.ndarray, float], np.ndarray] | None
+
+    @classmethod
+    def of(cls, s, nf, source, source_field) -> _Source:
+        q_space = np.zeros((s.size, nf))
+        q_time: Callable[[np.ndarray], np.ndarray] = np.ones_like
+        if source is not None:
+            q_space = np.ascontiguousarray(source[0], dtype=float)
+            if q_space.shape != (s.size, nf):
+                raise ValueError(
+                    f"source space part has shape {q_space.shape}, expected {(s.size, nf)}"
+                )
+            if source[1] is not None:
+                q_time = source[1]
+        return cls(s, q_space, q_time, source_field)
+
+    def time_factor(self, tt: np.ndarray) -> np.ndarray:
+        return np.array(np.broadcast_to(np.asarray(self.q_time(tt), float), tt.shape), order="C")
+
+    def field_at(self, tt: np.ndarray) -> np.ndarray:
+        if self.field is None:
+            return np.zeros((0, 0, 0))
+        return np.ascontiguousarray([self.field(self.s, float(ti)) for ti in tt], dtype=float)
+
+    def at(self, t: float) -> np.ndarray:
+        q = self.q_space * float(np.asarray(self.q_time(np.array([t])))[0])
+        if self.field is not None:
+            q = q + self.field(self.s, t)
+        return q
+
+
+def _initial_rate(system, y0, ds, y_t0, source: _Source, t0) -> np.ndarray:
+    if not isinstance(y_t0, str):
+        rate0 = np.array(y_t0, dtype=float)
+        if rate0.shape != y0.shape or not np.all(np.isfinite(rate0)):
+            raise ValueError(f"y_t0 must be a finite array of shape {y0.shape}")
+        return rate0
+    if y_t0 == "zero":
+        return np.zeros_like(y0)
+    if y_t0 == "consistent":
+        return consistent_rates(system, y0, ds, source.at(t0))
+    raise ValueError(f"y_t0={y_t0!r}; allowed: an array, 'consistent', 'zero'")
+
+
+@dataclass(frozen=True)
+class _Plan:
+    """What to record and keep, and the chunks of steps between checks."""
+
+    names: tuple[str, ...]
+    fields: np.ndarray
+    nodes: np.ndarray
+    every: int
+    snap_steps: list[int]
+    bounds: list[int]
+
+    @classmethod
+    def of(cls, system, n1, n_steps, t0, dt, record, record_every, snapshots, stop, check_every):
+        rec = dict(record or {})
+        fields = np.array([system.index(f) for f, _ in rec.values()], dtype=np.int64)
+        nodes = np.array(
+            [int(n) % n1 if -n1 <= int(n) < n1 else -1 for _, n in rec.values()], dtype=np.int64
+        )
+        if np.any(nodes < 0):
+            raise ValueError(f"record: node indices must be in [-{n1}, {n1})")
+        snap_steps = sorted({int(round((ts - t0) / dt)) for ts in snapshots})
+        if any(k < 0 or k > n_steps for k in snap_steps):
+            t_end = t0 + n_steps * dt
+            raise ValueError(f"snapshots must lie in [t0, t_end] = [{t0}, {t_end}]")
+        check = n_steps if (stop is None and check_every is None) else (check_every or 100)
+        if check < 1:
+            raise ValueError(f"check_every={check_every!r} must be >= 1")
+        bounds = sorted({0, n_steps, *snap_steps, *range(0, n_steps, check)})
+        return cls(tuple(rec), fields, nodes, record_every, snap_steps, bounds)
+
+
+def integrate(
+    system: System,
+    *,
+    n_cells: int,
+    length: float,
+    dt: float,
+    t_end: float,
+    y0: np.ndarray,
+    left: Boundary,
+    right: Boundary,
+    scheme: Scheme = Scheme(),
+    t0: float = 0.0,
+    y_t0: np.ndarray | str = "consistent",
+    source: tuple[np.ndarray, Callable[[np.ndarray], np.ndarray] | None] | None = None,
+    source_field: Callable[[np.ndarray, float], np.ndarray] | None = None,
+    record: Mapping[str, tuple[str | int, int]] | None = None,
+    record_every: int = 1,
+    snapshots: Sequence[float] = (),
+    newton: Newton = Newton(),
+    stop: Callable[[float, np.ndarray], str | None] | None = None,
+    check_every: int | None = None,
+    progress: bool | None = None,
+    meta: Mapping[str, Any] | None = None,
+) -> Run:
+    """Integrate ``system`` from t0 to t_end with the generalised-alpha scheme.
+
+    Parameters
+    ----------
+    n_cells : number of cells N >= 2 (nodes s_j = j * length / N).
+    dt : time step > 0; the run takes ceil((t_end - t0) / dt) steps.
+    y0 : initial state (N+1, nf), finite.  At lam_t = -1 the rows without a time
+        derivative (inextensibility) obey R^i = -R^{i-1} in time, so a y0 that
+        violates their discrete form keeps an undamped (-1)^i oscillation that
+        resonates with the multiplier n; pass such data through
+        :func:`consistent_initial_state` first.  The paper's straight initial
+        states satisfy the discrete equations exactly.
+    left, right : boundary rows at s = 0 and s = length (nb_left + nb_right = nf).
+    y_t0 : initial time derivative (N+1, nf), or "consistent" (from the equations,
+        see :func:`consistent_rates`), or "zero".  Irrelevant at lam_t = -1.
+    source : (q_space (N+1, nf), g) for a separable source q(s, t) = q_space(s) g(t)
+        (g maps an array of times to an array; None means g = 1).
+    source_field : callable (s, t) -> (N+1, nf) for a general source.
+    record : name -> (field, node) recorded every ``record_every`` steps.
+    snapshots : times at which the whole state is kept (nearest time level).
+    stop : callable (t, y) -> reason or None, checked every ``check_every`` steps.
+    progress : show a progress bar (None: only for long runs on a terminal).
+    """
+    t_start = time.perf_counter()
+    y0 = _validate(system, n_cells, length, dt, t_end, t0, record_every, y0, left, right)
+    n_cells = int(n_cells)
+    n1, nf = n_cells + 1, system.nf
+    ds = length / n_cells
+    s = np.linspace(0.0, length, n1)
+    n_steps = max(1, int(math.ceil((t_end - t0) / dt * (1.0 - 1e-12))))
+    times = t0 + dt * np.arange(n_steps + 1)
+    src = _Source.of(s, nf, source, source_field)
+    rate0 = _initial_rate(system, y0, ds, y_t0, src, t0)
+    con, work, fac = setup(system, scheme, n_cells, ds, dt, left, right, y0, rate0)
+    opts = newton.options()
+    plan = _Plan.of(system, n1, n_steps, t0, dt, record, record_every, snapshots, stop, check_every)
+    gL, gR, q_time = left.at(times), right.at(times), src.time_factor(times)
+
+    rec_t, rec_vals = [t0], [y0[plan.nodes, plan.fields].copy()]
+    snap_t, snap_y = ([t0], [y0.copy()]) if 0 in plan.snap_steps else ([], [])
+    stats = np.zeros((n_steps, 5))
+    stopped, failure, done = "t_end", None, 0
+    if progress is None:
+        progress = n_steps * n1 * nf > 5e7
+    bar = None
+    if progress:
+        from tqdm.auto import tqdm
+
+        bar = tqdm(total=n_steps, unit="step", disable=None, leave=False)
+    try:
+        for k0, k1 in zip(plan.bounds[:-1], plan.bounds[1:], strict=True):
+            chunk = slice(k0, k1 + 1)
+            first_rec = (k0 // record_every + 1) * record_every
+            rec_steps = np.arange(first_rec, k1 + 1, record_every)
+            rec = Recording(
+                plan.fields,
+                plan.nodes,
+                record_every,
+                k0,
+                np.zeros((rec_steps.size, len(plan.fields))),
+            )
+            forcing = Forcing(
+                gL[chunk], gR[chunk], src.q_space, q_time[chunk], src.field_at(times[chunk])
+            )
+            completed, outcome = march(
+                system.F, system.dF, con, work, fac, opts, forcing, rec, stats[k0:k1]
+            )
+            done = k0 + completed
+            kept = rec_steps <= done
+            rec_t.extend(t0 + dt * rec_steps[kept])
+            rec_vals.extend(rec.out[kept])
+            if completed < k1 - k0:
+                failure = ConvergenceError(
+                    float(times[done + 1]),
+                    done + 1,
+                    outcome.corrections,
+                    outcome.residual,
+                    REASONS.get(Status(outcome.status), "unknown")
+                    + " (also after a retry from the other predictor with a fresh Jacobian)",
+                )
+                stopped = f"failed: {failure}"
+                break
+            if bar is not None:
+                bar.update(k1 - k0)
+            if k1 in plan.snap_steps:
+                snap_t.append(float(times[k1]))
+                snap_y.append(work.y_old.copy())
+            if stop is not None and k1 < n_steps:
+                reason = stop(float(times[k1]), work.y_old)
+                if reason:
+                    stopped = str(reason)
+                    break
+    finally:
+        if bar is not None:
+            bar.close()
+    rv = np.array(rec_vals).reshape(len(rec_vals), len(plan.fields))
+    st = stats[:done]
+    result = Run(
+        s=s,
+        t=np.array(rec_t),
+        traces={name: rv[:, m].copy() for m, name in enumerate(plan.names)},
+        snapshot_times=np.array(snap_t),
+        snapshots=np.array(snap_y) if snap_y else np.zeros((0, n1, nf)),
+        iterations=st[:, 0].astype(int),
+        residual_evaluations=st[:, 1].astype(int),
+        factorisations=st[:, 2].astype(int),
+        residuals=st[:, 3].copy(),
+        retries=st[:, 4].astype(int),
+        y=work.y_old.copy(),
+        y_t=work.rate_old.copy(),
+        t_final=float(times[done]),
+        steps=done,
+        wall_time=time.perf_counter() - t_start,
+        stopped=stopped,
+        names=system.names,
+        meta={
+            "n_cells": n_cells,
+            "length": length,
+            "dt": dt,
+            "t0": t0,
+            "t_end": t_end,
+            "scheme": {
+                "lam_s": scheme.lam_s,
+                "lam_t": scheme.lam_t,
+                "quadrature": scheme.quadrature,
+            },
+            "newton": newton.__dict__.copy(),
+            **(meta or {}),
+        },
+    )
+    if failure is not None:
+        failure.run = result
+        raise failure
+    return result
+
+
+def newton_iteration_kernel(
+    system: System,
+    scheme: Scheme,
+    n_cells: int,
+    length: float,
+    dt: float,
+    left: Boundary,
+    right: Boundary,
+    y: np.ndarray,
+):
+    """A callable ``f(repeats)`` doing that many full Newton iterations of a step from
+    state y inside compiled code, and the step's scaled Jacobian blocks and
+    right-hand side (for benchmarks against LAPACK)."""
+    y = np.ascontiguousarray(y, float)
+    con, work, fac = setup(
+        system, scheme, n_cells, length / n_cells, dt, left, right, y, np.zeros_like(y)
+    )
+    gL, gR = left.at(np.array([dt]))[0], right.at(np.array([dt]))[0]
+
+    def iteration(repeats: int = 1) -> float:
+        return full_newton_iterations(system.F, system.dF, con, gL, gR, work, fac, repeats)
+
+    iteration(1)
+    return iteration, (work.left, work.A, work.B, work.right), work.r

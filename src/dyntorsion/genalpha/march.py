@@ -1,0 +1,115 @@
+"""The time march: steps of eq (10)-(12) in compiled code, then the update of eq (11)."""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numba
+import numpy as np
+
+from .. import _abd
+from .._numba import A1, A2, A3, I1, JACOBIAN_SIGNATURE, LOAD_SIGNATURE, jit, named
+from .discrete import CONSTANTS, WORK, factor, prepare_step, residual, solve_neg
+from .newton import _CONVERGED, NEWTON_OPTIONS, OUTCOME, NewtonOptions, Outcome, solve_step
+
+__all__ = ["Forcing", "Recording", "march", "full_newton_iterations"]
+
+
+class Forcing(NamedTuple):
+    """Boundary values and sources at the time levels of a chunk of steps."""
+
+    gL: np.ndarray  # (n+1, nb_left)
+    gR: np.ndarray  # (n+1, nb_right)
+    q_space: np.ndarray  # (N+1, nf): separable source q_space(s) q_time(t)
+    q_time: np.ndarray  # (n+1,)
+    q_field: np.ndarray  # (n+1, N+1, nf) general source, or empty
+
+
+class Recording(NamedTuple):
+    """Which fields at which nodes to record, every how many steps, and where."""
+
+    fields: np.ndarray
+    nodes: np.ndarray
+    every: int
+    offset: int  # index of the chunk's first step in the run
+    out: np.ndarray  # (records, fields)
+
+
+FORCING = named(Forcing, A2, A2, A2, A1, A3)
+RECORDING = named(Recording, I1, I1, numba.int64, numba.int64, A2)
+_F = numba.types.FunctionType(LOAD_SIGNATURE)
+_DF = numba.types.FunctionType(JACOBIAN_SIGNATURE)
+
+
+@jit(
+    signature=numba.types.Tuple((numba.int64, OUTCOME))(
+        _F, _DF, CONSTANTS, WORK, _abd.FACTORS, NEWTON_OPTIONS, FORCING, RECORDING, A2
+    )
+)
+def march(F, dF, con, w, fac, opts, forcing, rec, stats):
+    """Advance len(forcing.gL) - 1 steps from w.y_old, w.rate_old.
+
+    ``stats[k]`` <- corrections, residual evaluations, factorisations, residual and
+    retries of step k.  Returns the number of steps completed and the last
+    :class:`Outcome` (a failure if fewer steps than asked were completed).
+    """
+    co = con.co
+    yo, ao, y = w.y_old, w.rate_old, w.y
+    N1, nf = yo.shape
+    dt, g_t = co.dt, co.g_t
+    rate = opts.rate_predictor
+    qs, qt, qf = forcing.q_space, forcing.q_time, forcing.q_field
+    use_qf = qf.shape[0] > 0
+    nsteps = forcing.gL.shape[0] - 1
+    nrec = 0
+    retry = NewtonOptions(opts.tol, opts.max_iter, opts.lam_min, opts.theta_reuse, False, rate)
+    out = Outcome(_CONVERGED, 0, 0, 0, 0.0)
+    for k in range(nsteps):
+        if use_qf:
+            prepare_step(F, con, w, qs, qt[k], qt[k + 1], qf[k], qf[k + 1], True)
+        else:
+            prepare_step(F, con, w, qs, qt[k], qt[k + 1], qs, qs, False)
+        for j in range(N1):
+            for f in range(nf):
+                y[j, f] = yo[j, f] + dt * ao[j, f] if rate else yo[j, f]
+        gL, gR = forcing.gL[k + 1], forcing.gR[k + 1]
+        out = solve_step(F, dF, con, gL, gR, w, fac, opts)
+        stats[k, 0] = out.corrections
+        stats[k, 1] = out.residual_evaluations
+        stats[k, 2] = out.factorisations
+        stats[k, 3] = out.residual
+        if out.status != _CONVERGED:
+            # one retry: the other predictor, a fresh Jacobian at every iteration
+            for j in range(N1):
+                for f in range(nf):
+                    y[j, f] = yo[j, f] if rate else yo[j, f] + dt * ao[j, f]
+            w.factored[0] = 0
+            out = solve_step(F, dF, con, gL, gR, w, fac, retry)
+            stats[k, 0] += out.corrections
+            stats[k, 1] += out.residual_evaluations
+            stats[k, 2] += out.factorisations
+            stats[k, 3] = out.residual
+            stats[k, 4] = 1.0
+            if out.status != _CONVERGED:
+                return k, out
+        # eq (11): the new rate from the new level
+        for j in range(N1):
+            for f in range(nf):
+                ao[j, f] = (y[j, f] - yo[j, f]) / (g_t * dt) - (1.0 - g_t) / g_t * ao[j, f]
+                yo[j, f] = y[j, f]
+        if (rec.offset + k + 1) % rec.every == 0:
+            for m in range(rec.fields.shape[0]):
+                rec.out[nrec, m] = yo[rec.nodes[m], rec.fields[m]]
+            nrec += 1
+    return nsteps, out
+
+
+@jit(signature=numba.float64(_F, _DF, CONSTANTS, A1, A1, WORK, _abd.FACTORS, numba.int64))
+def full_newton_iterations(F, dF, con, gL, gR, w, fac, repeats):
+    """``repeats`` full Newton iterations at w.y: residual, Jacobian, LU, solve."""
+    res = 0.0
+    for _ in range(repeats):
+        res = residual(F, dF, con, gL, gR, w.y, w, w.r, True)
+        factor(con, w, fac)
+        solve_neg(fac, w.r, w.dx)
+    return res
