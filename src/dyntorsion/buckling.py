@@ -16,6 +16,7 @@ import numpy as np
 
 from . import shapes
 from .genalpha import ConvergenceError, Newton, Run, Scheme, integrate
+from .genalpha.guard import check_time_grid
 from .loading import AxialLoad, Ends, History, Ramp
 from .loading import ends as _ends
 from .model import Cosserat
@@ -41,6 +42,9 @@ __all__ = [
     "check_grid",
     "Onset",
     "detect_onset",
+    "check_window",
+    "classify_onset",
+    "STATUSES",
     "PowerLawFit",
     "fit_power_law",
 ]
@@ -224,6 +228,9 @@ def simulate(
     if on_failure not in ("raise", "return"):
         raise ValueError(f"on_failure={on_failure!r}; allowed: 'raise', 'return'")
     rod = Rod.paper() if rod is None else rod
+    if not isinstance(rod, Rod):
+        raise TypeError(f"rod={rod!r} must be a dyntorsion.Rod")
+    check_time_grid(dt, t_end, 0.0, snapshots, check_every)
     hist = _history(a, kappa0, history)
     load = _load(tension)
     end_set = _ends(ends)
@@ -334,6 +341,40 @@ class Onset:
     u_ref: float = math.nan
 
 
+def check_window(window, variations=()) -> None:
+    """Refuse an onset window (or a variation) that is not two finite fractions
+    0 < lo < hi < 1 of the first peak of |u3(L, t)|."""
+    for name, w in (("window", window), *(("variations", v) for v in variations)):
+        try:
+            lo, hi = (float(v) for v in w)
+        except (TypeError, ValueError):
+            raise ValueError(f"{name}={w!r} must be a pair (lo, hi) with 0 < lo < hi < 1") from None
+        if not 0 < lo < hi < 1:
+            raise ValueError(f"{name}={tuple(w)!r} must satisfy 0 < lo < hi < 1")
+
+
+#: what an onset record says happened (:func:`classify_onset`)
+STATUSES = ("buckled", "forced", "no-onset", "failed")
+
+
+def classify_onset(run: BucklingRun, onset: Onset | None, kappa_cri: float | None) -> str:
+    """What the run shows: ``"buckled"`` (an onset after the end twist has passed the
+    static critical twist ``kappa_cri``), ``"forced"`` (an onset before t = 0 or before
+    |kappa3(0, t)| reaches kappa_cri: the seed bent the rod, not the instability),
+    ``"no-onset"`` (the run ended, at t_end or self-contact, without one) or ``"failed"``
+    (a Newton failure ended it without one).  With ``kappa_cri=None`` (no static theory
+    for the scene) an onset at t_c >= 0 counts as buckled."""
+    if onset is None:
+        return "failed" if run.stopped.startswith("failed") else "no-onset"
+    if onset.t_c < run.t[0]:
+        return "forced"
+    if kappa_cri is None:
+        return "buckled"
+    upto = np.abs(run.kappa3_left[run.t <= onset.t_c])
+    passed = max(float(upto.max(initial=0.0)), abs(float(run.end_twist(onset.t_c))))
+    return "buckled" if passed >= kappa_cri else "forced"
+
+
 def detect_onset(
     run: BucklingRun,
     window: tuple[float, float] = (0.1, 0.5),
@@ -359,6 +400,7 @@ def detect_onset(
     :mod:`dyntorsion.linear_stability`), where ``t_c`` is an extrapolation from the
     nonlinear rise.
     """
+    check_window(window, variations)
     t, u = np.asarray(run.t), np.asarray(run.u3_end)
     U = np.abs(u)
     if not np.any(U > 0):
@@ -367,10 +409,16 @@ def detect_onset(
         u_ref = run.rod.L / run.rod.T0
     above = np.nonzero(U >= u_ref)[0]
     if above.size == 0:
-        raise ValueError(
-            f"|u3(L, t)| never reaches u_ref = {u_ref:.3g} m/s: the run ends "
-            "before buckling; increase t_end"
-        )
+        if run.stopped.startswith("failed"):
+            advice = (
+                f"the run ended on a Newton failure at t = {run.t[-1]:.6g} s before buckling "
+                "(refine dt or change the Newton options; a longer t_end does not help)"
+            )
+        elif run.stopped != "t_end":
+            advice = f"the run stopped before buckling ({run.stopped})"
+        else:
+            advice = "the run ends before buckling; increase t_end"
+        raise ValueError(f"|u3(L, t)| never reaches u_ref = {u_ref:.3g} m/s: {advice}")
     i_start = int(above[0])
     if i_start == 0:
         t_ref = float(t[0])
@@ -465,6 +513,31 @@ def _power_law(x: np.ndarray, kc: float, b_over_L: float, sigma: float) -> np.nd
     return kc + b_over_L * x**sigma
 
 
+def _determined(a: np.ndarray, k: np.ndarray, kappa_cri: float | None, n_par: int) -> None:
+    """Refuse data that cannot determine eq (33), naming the reason."""
+    rates = np.unique(a)
+    if rates.size < n_par:
+        raise ValueError(
+            f"a holds {rates.size} distinct rate(s); fitting {n_par} parameters needs at least "
+            f"{n_par} (eq 33 is a law in the rate)"
+        )
+    if kappa_cri is None:
+        if np.ptp(k) == 0:
+            raise ValueError("kappa3 is the same at every rate: sigma and b are undetermined")
+        return
+    if not (
+        isinstance(kappa_cri, int | float | np.integer | np.floating) and math.isfinite(kappa_cri)
+    ):
+        raise ValueError(f"kappa_cri={kappa_cri!r} must be a finite number, 'static' or None")
+    below = k <= kappa_cri
+    if np.any(below):
+        raise ValueError(
+            f"{int(below.sum())} of {k.size} kappa3 value(s) lie at or below kappa_cri = "
+            f"{kappa_cri:.6g} (min {k.min():.6g}): eq (33) needs kappa3 > kappa_cri; fit only "
+            'onsets with status "buckled" (a forced onset precedes the critical twist)'
+        )
+
+
 def fit_power_law(
     a: Sequence[float],
     kappa3: Sequence[float],
@@ -505,6 +578,7 @@ def fit_power_law(
         raise ValueError(
             f"need at least {n_par + 1} points to fit {n_par} parameters (got {a.size})"
         )
+    _determined(a, k, kappa_cri, n_par)
     if not 0 < confidence < 1:
         raise ValueError(f"confidence={confidence!r} must lie in (0, 1)")
     if not isinstance(n_boot, int) or n_boot < 0:
@@ -536,7 +610,17 @@ def fit_power_law(
             )
         return (p if free else np.r_[kappa_cri, p]), cov, f
 
-    p, cov, f = solve(x, k, w)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", scipy.optimize.OptimizeWarning)
+        try:
+            p, cov, f = solve(x, k, w)
+        except (RuntimeError, scipy.optimize.OptimizeWarning) as err:
+            raise ValueError(f"the data cannot determine eq (33): the fit failed ({err})") from None
+    if not (np.all(np.isfinite(p)) and np.all(np.isfinite(cov))):
+        raise ValueError(
+            "the data cannot determine eq (33): the fitted parameters or their covariance "
+            "are not finite (add rates, or fix kappa_cri)"
+        )
     kc, bl, sg = (float(v) for v in p)
     err = (
         np.sqrt(np.clip(np.diag(cov), 0, None))

@@ -204,8 +204,10 @@ def _buckle(args: argparse.Namespace) -> int:
         kc = "not covered by the static theory"
     print(f"scene      {scene.label()}")
     print(f"stopped    {row['stopped']}")
-    if row["t_c"] is None or (isinstance(row["t_c"], float) and np.isnan(row["t_c"])):
-        print("no onset detected before the run ended")
+    print(f"status     {row['status']}")
+    if row["status"] != "buckled":
+        why = row.get("onset_error") or "no onset detected before the run ended"
+        print(why if row["status"] != "forced" else f"{why} (t_c is no critical time)")
         return 1
     print(f"t_c        {row['t_c']:.4f} +- {row['uncertainty_t']:.4f} s")
     print(
@@ -233,7 +235,7 @@ def _print_fit(rows: list[dict]) -> None:
         if r["a"] is not None and r["kappa3"] is not None:
             families.setdefault(r["family"], []).append(r)
     if not families:
-        print("fit: no scene with a loading rate and an onset to fit")
+        print('fit: no scene with a loading rate and a "buckled" onset to fit')
     for grp in families.values():
         seen, pts = set(), []
         for r in grp:
@@ -260,7 +262,11 @@ def _print_fit(rows: list[dict]) -> None:
             print(f"fit {name}: kappa_cri fixed skipped ({err})")
             modes = (None,)
         for mode in modes:
-            f = fit_power_law(a, k, rod, kappa_cri=mode, n_boot=500)
+            try:
+                f = fit_power_law(a, k, rod, kappa_cri=mode, n_boot=500)
+            except ValueError as err:
+                print(f"fit {name}: not fitted ({err})")
+                continue
             tag = "kappa_cri fixed" if mode is not None else "kappa_cri free "
             print(
                 f"fit {name} {tag}: b = {f.b:.2f} +- {f.b_err:.2f}, "
@@ -277,9 +283,7 @@ def _fit_rows(table, scenes: list[Scene]) -> list[dict]:
         rows.append(
             {
                 "a": sc.twist.rate,
-                "kappa3": None
-                if r["kappa3"] is None or r["kappa3"] != r["kappa3"]
-                else r["kappa3"],
+                "kappa3": r["kappa3"] if r["status"] == "buckled" else None,
                 "family": r["family"],
                 "rod": sc.rod,
                 "scene": sc,
@@ -336,6 +340,7 @@ def _sweep(args: argparse.Namespace) -> int:
         "t_c",
         "kappa3",
         "uncertainty_kappa3",
+        "status",
         "cached",
     ]
     with np.printoptions(precision=4):

@@ -183,6 +183,9 @@ class Cosserat:
         unknown = set(self.terms) - set(TERMS)
         if unknown:
             raise ValueError(f"terms: unknown switch(es) {sorted(unknown)}; allowed: {TERMS}")
+        for name, weight in self.terms.items():
+            if not (isinstance(weight, int | float | np.integer | np.floating) and np.isfinite(weight)):
+                raise ValueError(f"terms[{name!r}]={weight!r} must be a finite weight (1 = on)")
         if not (np.isfinite(self.rotary_inertia_scale) and self.rotary_inertia_scale >= 0):
             raise ValueError(
                 f"rotary_inertia_scale={self.rotary_inertia_scale!r} must be finite and >= 0"

@@ -27,7 +27,15 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from .buckling import BucklingRun, Perturbation, _load, detect_onset, simulate
+from .buckling import (
+    BucklingRun,
+    Perturbation,
+    _load,
+    check_window,
+    classify_onset,
+    detect_onset,
+    simulate,
+)
 from .genalpha import Newton, Scheme
 from .loading import ENDS, AxialLoad, Ends, History, Ramp, ends_from_params, history_from_params
 from .loading import ends as _ends
@@ -138,6 +146,9 @@ class Scene:
             raise ValueError(f"dt={self.dt!r} must be > 0")
         if not (math.isfinite(self.horizon) and self.horizon > 0):
             raise ValueError(f"horizon={self.horizon!r} must be > 0")
+        check_window(self.window, self.variations)
+        set_(self, "window", tuple(float(v) for v in self.window))
+        set_(self, "variations", tuple(tuple(float(v) for v in w) for w in self.variations))
         set_(self, "n_cells", int(self.n_cells))
         set_(self, "dt", float(self.dt))
         set_(self, "terms", _canonical_terms(self.terms))
@@ -301,18 +312,27 @@ def simulate_scene(scene: Scene, t_end: float | None = None) -> BucklingRun:
 
 
 def run_scene(scene: Scene) -> dict[str, Any]:
-    """Simulate one scene and detect its onset (section 6): a JSON-ready dict."""
+    """Simulate one scene and detect its onset (section 6): a JSON-ready dict whose
+    ``status`` says what happened (:func:`~dyntorsion.buckling.classify_onset`: only
+    ``"buckled"`` onsets measure the delay law; a ``"forced"`` one keeps its t_c and
+    kappa3, with ``onset_error`` saying why it is no critical twist)."""
     run = simulate_scene(scene)
+    try:
+        kc = scene.kappa_cri()
+    except ValueError:
+        kc = None
     out: dict[str, Any] = {
         "stopped": run.stopped,
         "steps": int(run.t.size - 1),
         "t_last": float(run.t[-1]),
         "u3_peak": float(np.max(np.abs(run.u3_end))),
+        "kappa_cri": kc,
     }
     try:
         onset = detect_onset(run, window=scene.window, variations=scene.variations)
     except ValueError as err:
         out.update(
+            status=classify_onset(run, None, kc),
             onset_error=str(err),
             t_c=None,
             kappa3=None,
@@ -321,8 +341,15 @@ def run_scene(scene: Scene) -> dict[str, Any]:
             t_ref=None,
         )
         return out
+    status = classify_onset(run, onset, kc)
+    passes = "t = 0" if kc is None else f"the end twist passes kappa_cri = {kc:.4g} 1/m"
+    forced = (
+        f"forced: the onset (t_c = {onset.t_c:.4g} s, end twist {onset.kappa3:.4g} 1/m) comes "
+        f"before {passes}: the seed bent the rod, no delayed instability"
+    )
     out.update(
-        onset_error=None,
+        status=status,
+        onset_error=forced if status == "forced" else None,
         t_c=onset.t_c,
         kappa3=onset.kappa3,
         uncertainty_t=onset.uncertainty_t,
@@ -360,11 +387,13 @@ def _row(scene: Scene, record: dict[str, Any], cached: bool) -> dict[str, Any]:
         "seed_form": scene.seed.form,
         "n_cells": scene.n_cells,
         "dt": scene.dt,
+        "status": res.get("status") or _legacy_status(scene, res),
         "t_c": res["t_c"],
         "kappa3": res["kappa3"],
         "t_ref": res.get("t_ref"),
         "uncertainty_t": res["uncertainty_t"],
         "uncertainty_kappa3": res["uncertainty_kappa3"],
+        "onset_error": res.get("onset_error"),
         "stopped": res["stopped"],
         "steps": res["steps"],
         "wall_time_s": record["provenance"].get("wall_time_s"),
@@ -372,6 +401,18 @@ def _row(scene: Scene, record: dict[str, Any], cached: bool) -> dict[str, Any]:
         "family": digest(family)[:12],
         "cached": cached,
     }
+
+
+def _legacy_status(scene: Scene, res: Mapping[str, Any]) -> str:
+    """The status of a record written before records carried one (read with
+    ``on_stale="accept"``): from its t_c and kappa3 alone."""
+    if res["t_c"] is None:
+        return "failed" if res["stopped"].startswith("failed") else "no-onset"
+    try:
+        kc = scene.kappa_cri()
+    except ValueError:
+        kc = -math.inf
+    return "buckled" if res["t_c"] >= 0 and abs(res["kappa3"]) >= kc else "forced"
 
 
 def run_sweep(

@@ -12,6 +12,7 @@ from typing import Any
 import numpy as np
 
 from .discrete import setup
+from .guard import check_memory, check_time_grid
 from .initial import consistent_rates
 from .march import Forcing, Recording, full_newton_iterations, march
 from .newton import REASONS, ConvergenceError, Newton, Status
@@ -90,9 +91,7 @@ def _validate(system, n_cells, length, dt, t_end, t0, record_every, y0, left, ri
     if not isinstance(n_cells, int | np.integer) or n_cells < 2:
         raise ValueError(f"n_cells={n_cells!r} must be an integer >= 2")
     _check_positive("length", length)
-    _check_positive("dt", dt)
-    if not (math.isfinite(t_end) and math.isfinite(t0) and t_end > t0):
-        raise ValueError(f"t_end={t_end!r} must be finite and > t0={t0!r}")
+    check_time_grid(dt, t_end, t0)
     if not (isinstance(record_every, int) and record_every >= 1):
         raise ValueError(f"record_every={record_every!r} must be an integer >= 1")
     nf = system.nf
@@ -244,7 +243,8 @@ def integrate(
     n1, nf = n_cells + 1, system.nf
     ds = length / n_cells
     s = np.linspace(0.0, length, n1)
-    n_steps = max(1, int(math.ceil((t_end - t0) / dt * (1.0 - 1e-12))))
+    n_steps = check_time_grid(dt, t_end, t0, snapshots, check_every)
+    check_memory(n_steps, n1, nf, len(record or {}), len(snapshots))
     times = t0 + dt * np.arange(n_steps + 1)
     src = _Source.of(s, nf, source, source_field)
     rate0 = _initial_rate(system, y0, ds, y_t0, src, t0)

@@ -1,0 +1,108 @@
+"""Checks made before a run starts: the time grid (dt, t_end, snapshots, check
+interval) and the memory the run will allocate, so bad input is refused with its name
+and allowed range before anything is computed."""
+
+from __future__ import annotations
+
+import math
+import os
+from collections.abc import Sequence
+
+import numpy as np
+
+__all__ = [
+    "BudgetError",
+    "check_time_grid",
+    "check_memory",
+    "available_memory",
+    "run_bytes",
+    "MEMORY_FRACTION",
+]
+
+#: a run may allocate at most this fraction of the memory available when it starts
+MEMORY_FRACTION = 0.5
+
+
+class BudgetError(ValueError):
+    """A computation refused before it starts because its estimated work or memory
+    exceeds the budget; the message gives the estimate and how to lower it."""
+
+
+def _real(value) -> bool:
+    return isinstance(value, int | float | np.integer | np.floating) and not isinstance(
+        value, bool
+    )
+
+
+def check_time_grid(
+    dt, t_end, t0: float = 0.0, snapshots: Sequence[float] = (), check_every=None
+) -> int:
+    """The number of steps ceil((t_end - t0) / dt), after checking that dt and t_end are
+    finite numbers with 0 < dt <= t_end - t0, the snapshot times finite and in
+    [t0, t_end], and ``check_every`` None or an integer >= 1."""
+    if not (_real(dt) and math.isfinite(dt) and dt > 0):
+        raise ValueError(f"dt={dt!r} must be a finite number > 0 [s]")
+    if not (_real(t0) and math.isfinite(t0)):
+        raise ValueError(f"t0={t0!r} must be a finite number [s]")
+    if not (_real(t_end) and math.isfinite(t_end) and t_end > t0):
+        raise ValueError(f"t_end={t_end!r} must be a finite number > t0={t0!r} [s]")
+    if dt > t_end - t0:
+        raise ValueError(
+            f"dt={dt!r} exceeds the run's length t_end - t0 = {t_end - t0!r}: allowed 0 < dt <= "
+            "t_end - t0 (the run would step past t_end)"
+        )
+    snaps = np.asarray(list(snapshots), dtype=float)
+    if snaps.size and not (
+        np.all(np.isfinite(snaps)) and snaps.min() >= t0 and snaps.max() <= t_end
+    ):
+        raise ValueError(f"snapshots={list(snapshots)!r} must be finite times in [t0, t_end] = [{t0}, {t_end}]")
+    if check_every is not None and not (
+        isinstance(check_every, int | np.integer)
+        and not isinstance(check_every, bool)
+        and check_every >= 1
+    ):
+        raise ValueError(f"check_every={check_every!r} must be None or an integer >= 1")
+    steps = (t_end - t0) / dt
+    if steps > 2**53:
+        raise ValueError(
+            f"dt={dt!r} and t_end={t_end!r} make {steps:.3g} steps (more than 2^53): raise dt"
+        )
+    return max(1, int(math.ceil(steps * (1.0 - 1e-12))))
+
+
+def available_memory() -> int | None:
+    """Bytes of memory available to a new allocation (MemAvailable of /proc/meminfo,
+    else the free physical pages), or None where neither is known."""
+    try:
+        with open("/proc/meminfo") as fh:
+            for line in fh:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except OSError:
+        pass
+    try:
+        return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    except (ValueError, OSError, AttributeError):
+        return None
+
+
+def run_bytes(n_steps: int, n_nodes: int, nf: int, n_recorded: int, n_snapshots: int) -> int:
+    """What a run allocates up front and while it records, in bytes: per step its time,
+    boundary data (nf rows), source factor, statistics (5) and recorded traces; per
+    snapshot a whole field; the Jacobian blocks and work arrays (about 8 nf^2 per node)."""
+    per_step = 8 * (1 + nf + 1 + 5 + n_recorded)
+    return int(per_step * (n_steps + 1) + 8 * n_nodes * nf * (n_snapshots + 8 * nf + 16))
+
+
+def check_memory(n_steps: int, n_nodes: int, nf: int, n_recorded: int, n_snapshots: int) -> None:
+    """Refuse (:class:`BudgetError` with the estimate and how to lower it) a run whose arrays
+    exceed :data:`MEMORY_FRACTION` of the available memory."""
+    need = run_bytes(n_steps, n_nodes, nf, n_recorded, n_snapshots)
+    avail = available_memory()
+    if avail is None or need <= MEMORY_FRACTION * avail:
+        return
+    raise BudgetError(
+        f"the run needs about {need / 2**30:.3g} GiB ({n_steps} time steps x {n_nodes} nodes, "
+        f"{n_snapshots} snapshots) but {avail / 2**30:.3g} GiB is available: raise dt, "
+        "shorten t_end, or keep fewer snapshots"
+    )
