@@ -97,6 +97,10 @@ def _sound_or_says_why(rod, a, n_cells, dt, t_end, lam_t, far, caught):
     def warned():
         assert any(issubclass(w.category, GridWarning) for w in caught) == far
 
+    if dt > t_end:  # one step would overshoot t_end: refused before the run (issue 17)
+        with pytest.raises(ValueError, match=r"dt=.*exceeds.*t_end"):
+            simulate(rod, a=a, kappa0=10.0, n_cells=n_cells, dt=dt, t_end=t_end)
+        return
     try:
         run = simulate(
             rod,

@@ -184,7 +184,9 @@ class Cosserat:
         if unknown:
             raise ValueError(f"terms: unknown switch(es) {sorted(unknown)}; allowed: {TERMS}")
         for name, weight in self.terms.items():
-            if not (isinstance(weight, int | float | np.integer | np.floating) and np.isfinite(weight)):
+            if not (
+                isinstance(weight, int | float | np.integer | np.floating) and np.isfinite(weight)
+            ):
                 raise ValueError(f"terms[{name!r}]={weight!r} must be a finite weight (1 = on)")
         if not (np.isfinite(self.rotary_inertia_scale) and self.rotary_inertia_scale >= 0):
             raise ValueError(

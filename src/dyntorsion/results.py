@@ -41,6 +41,8 @@ from functools import cache
 from pathlib import Path
 from typing import Any
 
+from .leases import TMP_SUFFIX, Lease, _owner, acquire_lease, clean_leftovers
+
 SCHEMA = 1
 
 #: where the computation of each record kind starts: its fingerprint covers every
@@ -236,16 +238,17 @@ def fingerprint_of(sources: Mapping[str, str]) -> str:
     return h.hexdigest()[:16]
 
 
-def _plain(obj: Any) -> Any:
-    """JSON-ready copy: tuples to lists, numpy scalars and arrays to Python."""
+def _plain(obj: Any, where: str = "") -> Any:
+    """JSON-ready copy: tuples to lists, numpy scalars and arrays to Python; a
+    non-finite number is refused with the entry that holds it."""
     if isinstance(obj, Mapping):
-        return {str(k): _plain(v) for k, v in obj.items()}
+        return {str(k): _plain(v, f"{where}.{k}" if where else str(k)) for k, v in obj.items()}
     if isinstance(obj, list | tuple):
-        return [_plain(v) for v in obj]
+        return [_plain(v, f"{where}[{i}]") for i, v in enumerate(obj)]
     if hasattr(obj, "tolist"):
-        return _plain(obj.tolist())
+        return _plain(obj.tolist(), where)
     if isinstance(obj, float) and not math.isfinite(obj):
-        raise ValueError(f"cannot store the non-finite number {obj!r}")
+        raise ValueError(f"cannot store the non-finite number {obj!r} (entry {where or '-'})")
     return obj
 
 
@@ -291,7 +294,9 @@ def write_json(path: str | os.PathLike[str], obj: Any) -> Path:
     ``path`` is untouched."""
     target = Path(path)
     target.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=target.parent, prefix=f".{target.stem}.", suffix=".tmp")
+    fd, tmp = tempfile.mkstemp(
+        dir=target.parent, prefix=f".{target.stem}.{_owner()}.", suffix=TMP_SUFFIX
+    )
     try:
         with os.fdopen(fd, "w") as fh:
             json.dump(obj, fh, indent=1, sort_keys=True, allow_nan=False)
@@ -319,6 +324,14 @@ class Store:
     def path(self, kind: str, params: Mapping[str, Any]) -> Path:
         return self.root / f"{kind}-{key(kind, params)}.json"
 
+    def lease(self, kind: str, params: Mapping[str, Any]) -> Lease | None:
+        """Claim the record (:func:`acquire_lease`); None while another process holds it."""
+        return acquire_lease(self.path(kind, params))
+
+    def clean(self) -> list[Path]:
+        """Remove what killed writers left behind (:func:`clean_leftovers`)."""
+        return clean_leftovers(self.root) if self.root.is_dir() else []
+
     def save(
         self,
         kind: str,
@@ -327,17 +340,28 @@ class Store:
         wall_time: float | None = None,
     ) -> Path:
         """Write one record atomically; returns its path."""
-        record = {
-            "schema": SCHEMA,
-            "kind": kind,
-            "key": key(kind, params),
-            "params": _plain(params),
-            "result": _plain(result),
-            "provenance": provenance(wall_time, kind),
-        }
+        try:
+            record = {
+                "schema": SCHEMA,
+                "kind": kind,
+                "key": key(kind, params),
+                "params": _plain(params, "params"),
+                "result": _plain(result, "result"),
+                "provenance": provenance(wall_time, kind),
+            }
+        except ValueError as err:
+            raise ValueError(f"{kind} record not written: {err}") from None
         record["hash"] = digest({"kind": kind, "params": params, "result": result})
         target = self.path(kind, params)
-        write_json(target, record)
+        try:
+            write_json(target, record)
+        except OSError as err:
+            raise OSError(
+                err.errno,
+                f"cannot write the record ({err.strerror}); check that the store folder is "
+                "writable and has space (--store or $DYNTORSION_DATA)",
+                str(target),
+            ) from err
         return target
 
     def read(self, path: str | os.PathLike[str]) -> dict[str, Any]:

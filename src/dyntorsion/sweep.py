@@ -16,9 +16,7 @@ from __future__ import annotations
 
 import concurrent.futures as cf
 import math
-import multiprocessing
 import os
-import time
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
@@ -43,6 +41,7 @@ from .model import Cosserat
 from .results import Store, digest
 from .rod import Rod
 from .statics import critical_twist, euler_load
+from .workers import MissingResultError, cached_map
 
 __all__ = [
     "Scene",
@@ -362,16 +361,6 @@ def run_scene(scene: Scene) -> dict[str, Any]:
     return out
 
 
-def _timed(run: Callable[[Any], dict[str, Any]], item: Any) -> tuple[dict[str, Any], float]:
-    start = time.perf_counter()
-    result = run(item)
-    return result, time.perf_counter() - start
-
-
-class MissingResultError(LookupError):
-    """A scene the store does not hold, asked for without computing."""
-
-
 def _row(scene: Scene, record: dict[str, Any], cached: bool) -> dict[str, Any]:
     res = record["result"]
     family = {k: v for k, v in record["params"].items() if k != "t_end"}
@@ -456,97 +445,6 @@ def run_sweep(
         command="dyntorsion sweep",
     )
     return pd.DataFrame([_row(scenes[i], *records[i]) for i in range(len(scenes))])
-
-
-def cached_map(
-    items: Sequence[Any],
-    run: Callable[[Any], dict[str, Any]],
-    kind: str,
-    store: Store | str | Path | None = None,
-    *,
-    executor: cf.Executor | None = None,
-    jobs: int = 1,
-    on_stale: str = "recompute",
-    compute: bool = True,
-    progress: bool | None = None,
-    log: Callable[[str], None] | None = None,
-    show: str | None = None,
-    command: str = "dyntorsion sweep",
-) -> list[tuple[dict[str, Any], bool]]:
-    """(record, cached) for each item, in order: the machinery behind :func:`run_sweep`.
-
-    Each item has ``params()`` (the cache key, with ``kind``) and ``label()``;
-    ``run(item)`` (a module-level function, so processes can receive it) returns the
-    JSON-ready result.  Records in ``store`` (default :func:`default_store`: ``$DYNTORSION_DATA`` or :data:`DATA`) are read; the
-    others run on ``executor``, or on ``jobs`` local processes (``jobs=1``: here),
-    and each is written the moment it finishes.  ``show`` names a result entry for
-    the log line; ``command`` is the one the missing-result error recommends.
-    """
-    store = (
-        Store(default_store() if store is None else store)
-        if not isinstance(store, Store)
-        else store
-    )
-    if not isinstance(jobs, int) or jobs < 1:
-        raise ValueError(f"jobs={jobs!r} must be an integer >= 1")
-    say = log or (lambda msg: None)
-    records: dict[int, tuple[dict[str, Any], bool]] = {}
-    todo: list[int] = []
-    for i, item in enumerate(items):
-        rec = store.load(kind, item.params(), on_stale=on_stale)
-        if rec is None:
-            if store.path(kind, item.params()).exists():
-                say(f"stale, recomputing: {item.label()}")
-            todo.append(i)
-        else:
-            records[i] = (rec, True)
-    if todo and not compute:
-        missing = "\n  ".join(items[i].label() for i in todo)
-        raise MissingResultError(
-            f"{len(todo)} {kind} record(s) are not in {store.root}:\n  {missing}\n"
-            f"compute them with `make data` (or `{command}`)"
-        )
-
-    def finish(i: int, result: dict[str, Any], wall: float) -> None:
-        path = store.save(kind, items[i].params(), result, wall_time=wall)
-        records[i] = (store.read(path), False)
-        tail = f" -> {show} = {result[show]}" if show else ""
-        say(f"done in {wall:.1f} s: {items[i].label()}{tail}")
-
-    bar = None
-    if todo and (progress or progress is None):
-        from tqdm.auto import tqdm
-
-        bar = tqdm(total=len(todo), unit="scene", disable=None if progress is None else False)
-    try:
-        if executor is None and jobs == 1:
-            for i in todo:
-                finish(i, *_timed(run, items[i]))
-                if bar is not None:
-                    bar.update()
-        elif todo:
-            own = executor is None
-            pool = executor or cf.ProcessPoolExecutor(
-                max_workers=jobs, mp_context=multiprocessing.get_context("spawn")
-            )
-            futures: dict[cf.Future, int] = {}
-            try:
-                futures = {pool.submit(_timed, run, items[i]): i for i in todo}
-                for fut in cf.as_completed(futures):
-                    finish(futures[fut], *fut.result())
-                    if bar is not None:
-                        bar.update()
-            except BaseException:
-                for fut in futures:
-                    fut.cancel()
-                raise
-            finally:
-                if own:
-                    pool.shutdown(wait=True, cancel_futures=True)
-    finally:
-        if bar is not None:
-            bar.close()
-    return [records[i] for i in range(len(items))]
 
 
 # ----------------------------------------------------------------- presets

@@ -38,6 +38,7 @@ from scipy.special import expit
 
 from ._numba import jacobian_kernel, load_kernel
 from .genalpha import Boundary, Newton, Run, Scheme, System, integrate
+from .genalpha.guard import BudgetError
 from .rod import Rod
 
 FIELDS = ("k3", "w3")
@@ -51,6 +52,13 @@ DEFAULT_TOL = 1e-10
 DEFAULT_TOL_DUHAMEL = 1e-6
 #: default working precision (decimal digits) of the mpmath references
 DEFAULT_DIGITS = 35
+#: the mpmath references refuse work estimated above this many seconds (``budget=``)
+MP_BUDGET_S = 60.0
+#: cost at 35 digits (measured on a 2-core 2026 machine): one series term at one point,
+#: one Gauss-Legendre panel of a Duhamel integral (scaled by digits / 35 above 35)
+MP_TERM_S, MP_PANEL_S = 3e-5, 2.5e-3
+#: the closed forms refuse more travelling images x points than this
+MAX_IMAGES = 50_000_000
 
 
 # ============================================================================ the model
@@ -366,6 +374,22 @@ def _chunked_sum(n_terms: int, term: Callable[[np.ndarray], np.ndarray], shape) 
     return out
 
 
+def _mp_budget(units: float, unit_s: float, digits: int, budget, lower: str) -> None:
+    """Refuse (:class:`BudgetError`) an mpmath evaluation whose estimated time exceeds
+    ``budget`` seconds (None: no limit)."""
+    if not (isinstance(digits, int | np.integer) and digits >= 5):
+        raise ValueError(f"digits={digits!r} must be an integer >= 5")
+    if budget is None:
+        return
+    budget = _positive_number("budget", budget)
+    estimate = units * unit_s * max(1.0, digits / DEFAULT_DIGITS)
+    if estimate > budget:
+        raise BudgetError(
+            f"precise=True: about {units:.3g} mpmath evaluations, an estimated {estimate:.3g} s "
+            f"(> budget={budget:g} s); {lower}, use precise=False, or raise budget= (None: no limit)"
+        )
+
+
 def _mp_array(fn, s, t, digits: int) -> np.ndarray:
     with mpmath.workdps(digits):
         vals = [
@@ -406,6 +430,7 @@ def linear_loading_exact(
     tol: float | None = None,
     precise: bool = False,
     digits: int = DEFAULT_DIGITS,
+    budget: float | None = MP_BUDGET_S,
 ) -> np.ndarray:
     """Eq (25): kappa(s, t) for kappa(0, t) = kappa0 + a t, kappa_s(L, t) = 0 (eq 23).
 
@@ -415,7 +440,8 @@ def linear_loading_exact(
     bound :func:`linear_loading_bound` (pointwise where it is smaller) to be below
     ``tol``.
     ``precise=True`` sums in mpmath at ``digits`` digits and returns an object
-    array of mpf.
+    array of mpf; it refuses (:class:`BudgetError`) work estimated above ``budget``
+    seconds.
     """
     c, L = _positive_number("c", c), _positive_number("L", L)
     a, kappa0 = _finite("a", a), _finite("kappa0", kappa0)
@@ -436,6 +462,7 @@ def linear_loading_exact(
 
     n_terms = _terms(terms, tol, needed)
     if precise:
+        _mp_budget(n_terms * s.size, MP_TERM_S, digits, budget, "pass fewer points or terms")
 
         def point(si, ti):
             mL, mc, ma = mpmath.mpf(L), mpmath.mpf(c), mpmath.mpf(a)
@@ -481,6 +508,7 @@ def instant_release_exact(
     tol: float | None = None,
     precise: bool = False,
     digits: int = DEFAULT_DIGITS,
+    budget: float | None = MP_BUDGET_S,
 ) -> np.ndarray:
     """Eq (27): kappa(s, t) after the twist kappa0 is released at t = 0 (eq 26).
 
@@ -503,6 +531,7 @@ def instant_release_exact(
 
     n_terms = _terms(terms, tol, needed)
     if precise:
+        _mp_budget(n_terms * s.size, MP_TERM_S, digits, budget, "pass fewer points or terms")
 
         def point(si, ti):
             mL, mc = mpmath.mpf(L), mpmath.mpf(c)
@@ -551,13 +580,17 @@ def _duhamel_np(t: float, n_terms: int, f: Transition, rate: float, c: float, L:
     return out
 
 
+def _duhamel_pieces(t: float, n: int, rate: float, c: float, L: float) -> int:
+    """Panels of the mpmath Duhamel integral of term n: one per period, per 0.2 of x."""
+    omega = c * (2 * n - 1) * math.pi / (2 * L)
+    return int(max(2, math.ceil(omega * t / (2 * math.pi)), math.ceil(rate * t / 0.2)))
+
+
 def _duhamel_mp(t, n: int, f: Transition, rate, c, L):
     omega = c * (2 * n - 1) * mpmath.pi / (2 * L)
     if t == 0:
         return mpmath.mpf(0)
-    pieces = int(
-        max(2, math.ceil(float(omega * t) / (2 * math.pi)), math.ceil(float(rate * t) / 0.2))
-    )
+    pieces = _duhamel_pieces(float(t), n, float(rate), float(c), float(L))
     return mpmath.quad(
         lambda tau: f.mp(rate * tau, 2) * mpmath.sin(omega * (t - tau)),
         mpmath.linspace(0, t, pieces + 1),
@@ -625,6 +658,7 @@ def smooth_release_exact(
     tol: float | None = None,
     precise: bool = False,
     digits: int = DEFAULT_DIGITS,
+    budget: float | None = MP_BUDGET_S,
 ) -> np.ndarray:
     """Eq (29): kappa(s, t) for kappa(L, t) = kappa0 f(rate t), kappa_s(0, t) = 0 (eq 28).
 
@@ -635,7 +669,9 @@ def smooth_release_exact(
     integrals are evaluated by composite Gauss-Legendre quadrature (NumPy) or
     mpmath's Gauss-Legendre on one panel per period (``precise=True``), not by a
     Riemann sum.  With ``tol`` (default 1e-6: each term costs a quadrature) the
-    term count comes from :func:`smooth_release_bound` (needs f''').
+    term count comes from :func:`smooth_release_bound` (needs f''').  ``precise=True``
+    refuses (:class:`BudgetError`) work estimated above ``budget`` seconds: each term at
+    each distinct time is a quadrature over :func:`_duhamel_pieces` panels.
     """
     c, L = _positive_number("c", c), _positive_number("L", L)
     rate = _positive_number("rate", rate)
@@ -655,6 +691,16 @@ def smooth_release_exact(
     n_terms = _terms(terms, tol, needed, DEFAULT_TOL_DUHAMEL, MAX_TERMS_DUHAMEL)
     coef_n = np.arange(1, n_terms + 1)
     if precise:
+        panels = sum(
+            _duhamel_pieces(float(ti), int(n), rate, c, L) for ti in np.unique(t) for n in coef_n
+        )
+        _mp_budget(
+            panels + n_terms * s.size,
+            MP_PANEL_S,
+            digits,
+            budget,
+            "pass fewer distinct times, fewer terms or a looser tol",
+        )
         with mpmath.workdps(digits):
             mL, mc, mr, mk = (mpmath.mpf(v) for v in (L, c, rate, kappa0))
             cache: dict[float, list] = {}
@@ -694,6 +740,11 @@ def _images(t, s, c, L, disturbance, from_left: bool, n_max: int | None = None):
     """
     t = np.asarray(t, float)
     k_max = int(np.max(c * t / (2 * L))) + 1 if n_max is None else n_max
+    if (k_max + 1) * max(1, t.size) > MAX_IMAGES:
+        raise BudgetError(
+            f"t up to {np.max(t):.4g} s is {k_max} wave transits 2L/c: {k_max + 1} images x "
+            f"{t.size} points exceeds {MAX_IMAGES:.3g}; pass earlier times or fewer points"
+        )
     out = np.zeros(np.broadcast(s, t).shape)
     for k in range(k_max + 1):
         if from_left:
@@ -708,16 +759,22 @@ def linear_loading_dalembert(s, t, *, a: float, kappa0: float = 0.0, c: float, L
     """Closed form of eq (23) with h = kappa0 + a t: kappa0 plus travelling ramps a (t - d/c)_+
     with reflections (same sign at the free end s = L, opposite at the driven end s = 0)."""
     c, L = _positive_number("c", c), _positive_number("L", L)
+    a, kappa0 = _finite("a", a), _finite("kappa0", kappa0)
     s, t = _grid(s, t, L)
-    return kappa0 + _images(t, s, c, L, lambda tau: a * np.maximum(tau, 0.0), from_left=True)
+    # kappa - a t has the period 4L/c of eq (25): evaluate within one period
+    t_r = np.mod(t, 4 * L / c)
+    ramp = lambda tau: a * np.maximum(tau, 0.0)  # noqa: E731
+    return kappa0 + a * (t - t_r) + _images(t_r, s, c, L, ramp, from_left=True)
 
 
 def instant_release_dalembert(s, t, *, kappa0: float, c: float, L: float):
     """Closed form of eq (26): kappa0 minus travelling steps; on a front the mean of both sides."""
     c, L = _positive_number("c", c), _positive_number("L", L)
+    kappa0 = _finite("kappa0", kappa0)
     s, t = _grid(s, t, L)
     step = lambda tau: -kappa0 * np.heaviside(tau, 0.5)  # noqa: E731
-    return kappa0 + _images(t, s, c, L, step, from_left=False)
+    # periodic in t with the period 4L/c of eq (27)
+    return kappa0 + _images(np.mod(t, 4 * L / c), s, c, L, step, from_left=False)
 
 
 def smooth_release_dalembert(

@@ -29,9 +29,7 @@ class BudgetError(ValueError):
 
 
 def _real(value) -> bool:
-    return isinstance(value, int | float | np.integer | np.floating) and not isinstance(
-        value, bool
-    )
+    return isinstance(value, int | float | np.integer | np.floating) and not isinstance(value, bool)
 
 
 def check_time_grid(
@@ -51,11 +49,10 @@ def check_time_grid(
             f"dt={dt!r} exceeds the run's length t_end - t0 = {t_end - t0!r}: allowed 0 < dt <= "
             "t_end - t0 (the run would step past t_end)"
         )
-    snaps = np.asarray(list(snapshots), dtype=float)
-    if snaps.size and not (
-        np.all(np.isfinite(snaps)) and snaps.min() >= t0 and snaps.max() <= t_end
-    ):
-        raise ValueError(f"snapshots={list(snapshots)!r} must be finite times in [t0, t_end] = [{t0}, {t_end}]")
+    try:
+        snaps = np.asarray(list(snapshots), dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"snapshots={snapshots!r} must be a sequence of times [s]") from None
     if check_every is not None and not (
         isinstance(check_every, int | np.integer)
         and not isinstance(check_every, bool)
@@ -67,7 +64,15 @@ def check_time_grid(
         raise ValueError(
             f"dt={dt!r} and t_end={t_end!r} make {steps:.3g} steps (more than 2^53): raise dt"
         )
-    return max(1, int(math.ceil(steps * (1.0 - 1e-12))))
+    n_steps = max(1, int(math.ceil(steps * (1.0 - 1e-12))))
+    if snaps.size:
+        k = np.round((snaps - t0) / dt) if np.all(np.isfinite(snaps)) else np.array([-1.0])
+        if k.min() < 0 or k.max() > n_steps:
+            raise ValueError(
+                f"snapshots={snaps.tolist()!r} must be finite times in [t0, t_end] = "
+                f"[{t0}, {t_end}] (each is taken at the nearest time level)"
+            )
+    return n_steps
 
 
 def available_memory() -> int | None:
