@@ -6,7 +6,9 @@
 from __future__ import annotations
 
 import argparse
+import signal
 import sys
+import threading
 from collections.abc import Sequence
 
 import numpy as np
@@ -302,6 +304,8 @@ def _log(message: str) -> None:
 def _sweep(args: argparse.Namespace) -> int:
     scenes = _sweep_scenes(args)
     executor, client, cluster = None, None, None
+    if args.dask_local < 0:
+        raise ValueError(f"--dask-local={args.dask_local} must be >= 1 workers (or 0: off)")
     if args.scheduler or args.dask_local:
         try:
             from dask.distributed import Client, LocalCluster
@@ -398,6 +402,9 @@ def _linear_presets() -> list[str]:
 def parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="dyntorsion", description=__doc__.splitlines()[0])
     p.add_argument("--version", action="version", version=f"dyntorsion {__version__}")
+    p.add_argument(
+        "--debug", action="store_true", help="show the traceback of an error (anywhere on the line)"
+    )
     sub = p.add_subparsers(dest="command", required=True)
 
     b = sub.add_parser("buckle", help="one buckling scene: print t_c and kappa3")
@@ -468,13 +475,73 @@ def parser() -> argparse.ArgumentParser:
     return p
 
 
+#: exit status of a refused input, of a failed computation or unusable store, of a bug
+EXIT_INPUT, EXIT_FAILED, EXIT_BUG, EXIT_INTERRUPTED = 2, 1, 3, 130
+
+
+def describe(err: BaseException) -> tuple[str, int]:
+    """One line for a package error (what, which file or parameter, what to do) and the
+    exit status."""
+    from .genalpha import ConvergenceError
+    from .results import CorruptResultError, StaleResultError
+    from .workers import MissingResultError
+
+    lines = [ln.strip() for ln in str(err).splitlines() if ln.strip()]
+    text = (
+        lines[0]
+        if len(lines) < 2
+        else f"{lines[0]} ({lines[1]}{', ...' if len(lines) > 3 else ''}); {lines[-1]}"
+    )
+    if isinstance(err, ValueError | TypeError):
+        return text, EXIT_INPUT
+    if isinstance(err, StaleResultError | CorruptResultError | MissingResultError):
+        return text, EXIT_FAILED
+    if isinstance(err, ConvergenceError):
+        return f"{text}; refine --dt or change the Newton options", EXIT_FAILED
+    if isinstance(err, OSError):
+        where = f" {err.filename}" if err.filename else ""
+        what = err.strerror or text
+        return (
+            f"{what}:{where}; check that the path exists, is writable and the disk has space "
+            "(--store or $DYNTORSION_DATA)",
+            EXIT_FAILED,
+        )
+    if isinstance(err, MemoryError):
+        return f"out of memory ({text or 'no detail'}); raise --dt or lower --t-end", EXIT_FAILED
+    return (
+        f"internal error {type(err).__name__}: {text}; rerun with --debug and report it",
+        EXIT_BUG,
+    )
+
+
+def _terminate(signum, frame) -> None:
+    raise SystemExit(128 + signum)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
-    args = parser().parse_args(argv)
+    """Run a subcommand; a package error prints one line and a non-zero status
+    (``--debug``: the traceback instead)."""
+    argv = list(sys.argv[1:] if argv is None else argv)
+    debug = "--debug" in argv
+    args = parser().parse_args([a for a in argv if a != "--debug"])
+    main_thread = threading.current_thread() is threading.main_thread()
+    old = signal.signal(signal.SIGTERM, _terminate) if main_thread else None
     try:
         return args.func(args)
-    except ValueError as err:
-        print(f"dyntorsion: error: {err}", file=sys.stderr)
-        return 2
+    except KeyboardInterrupt:
+        if debug:
+            raise
+        print("dyntorsion: interrupted; finished results are kept in the store", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    except Exception as err:
+        if debug:
+            raise
+        line, status = describe(err)
+        print(f"dyntorsion: error: {line}", file=sys.stderr)
+        return status
+    finally:
+        if main_thread:
+            signal.signal(signal.SIGTERM, old)
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -358,8 +358,7 @@ class Store:
         except OSError as err:
             raise OSError(
                 err.errno,
-                f"cannot write the record ({err.strerror}); check that the store folder is "
-                "writable and has space (--store or $DYNTORSION_DATA)",
+                f"cannot write the record ({err.strerror or err})",
                 str(target),
             ) from err
         return target
