@@ -27,9 +27,9 @@ test: $(VENV)/.test-installed
 	DYNTORSION_FIDELITY=quick $(PY) -m sphinx -E -q -W --keep-going -b html docs docs/_build/quick
 	$(PY) -m pytest -m "not slow" -q
 
-## test-all: every test, including the long `slow` ones
+## test-all: every test, including the long `slow` ones, property tests at many examples
 test-all: $(VENV)/.test-installed
-	$(PY) -m pytest -q
+	DYNTORSION_HYPOTHESIS=long $(PY) -m pytest -q
 
 ## paper: recompute missing or stale data, regenerate every figure (paper/figures) and
 ## the at-a-glance numbers (paper/numbers.json), and build the documentation site

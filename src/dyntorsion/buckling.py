@@ -16,7 +16,7 @@ import numpy as np
 
 from . import shapes
 from .genalpha import ConvergenceError, Newton, Run, Scheme, integrate
-from .genalpha.guard import check_time_grid
+from .genalpha.guard import check_time_grid, real
 from .loading import AxialLoad, Ends, History, Ramp
 from .loading import ends as _ends
 from .model import Cosserat
@@ -67,7 +67,7 @@ class Perturbation:
     direction: tuple[float, float, float] = (1.0, 0.0, 0.0)
 
     def __post_init__(self) -> None:
-        if not (math.isfinite(self.magnitude) and self.magnitude >= 0):
+        if not (real("perturbation magnitude", self.magnitude) >= 0):
             raise ValueError(f"perturbation magnitude={self.magnitude!r} must be finite and >= 0")
         if self.form not in ("uniform", "point"):
             raise ValueError(f"perturbation form={self.form!r}; allowed: 'uniform', 'point'")
@@ -160,10 +160,7 @@ def _history(a: float | None, kappa0: float, history: History | None) -> History
     if history is None:
         if a is None:
             raise ValueError("give the loading rate a (the paper's ramp) or a history")
-        for name, value in (("a", a), ("kappa0", kappa0)):
-            if not math.isfinite(value):
-                raise ValueError(f"{name}={value!r} must be finite")
-        return Ramp(a=a, kappa0=kappa0)
+        return Ramp(a=real("a", a, " [1/(m s)]"), kappa0=real("kappa0", kappa0, " [1/m]"))
     if not isinstance(history, History):
         raise TypeError(f"history={history!r} must be a dyntorsion.loading.History")
     if a is not None or kappa0 != 0.0:
@@ -235,7 +232,7 @@ def simulate(
     load = _load(tension)
     end_set = _ends(ends)
     if not isinstance(perturbation, Perturbation):
-        perturbation = Perturbation(magnitude=float(perturbation))
+        perturbation = Perturbation(magnitude=real("perturbation", perturbation, " [N/m]"))
     model = Cosserat(rod, terms=dict(terms or {}), rotary_inertia_scale=rotary_inertia_scale)
     system = model.system()
     if not isinstance(n_cells, int | np.integer) or n_cells < 2:
@@ -513,6 +510,13 @@ def _power_law(x: np.ndarray, kc: float, b_over_L: float, sigma: float) -> np.nd
     return kc + b_over_L * x**sigma
 
 
+def _numbers(name: str, values) -> np.ndarray:
+    try:
+        return np.asarray(values, dtype=float)
+    except (TypeError, ValueError) as err:
+        raise ValueError(f"{name} must be numbers ({err})") from None
+
+
 def _determined(a: np.ndarray, k: np.ndarray, kappa_cri: float | None, n_par: int) -> None:
     """Refuse data that cannot determine eq (33), naming the reason."""
     rates = np.unique(a)
@@ -560,8 +564,7 @@ def fit_power_law(
     import scipy.optimize
 
     rod = Rod.paper() if rod is None else rod
-    a = np.asarray(a, dtype=float)
-    k = np.asarray(kappa3, dtype=float)
+    a, k = _numbers("a", a), _numbers("kappa3", kappa3)
     if a.ndim != 1 or a.shape != k.shape:
         raise ValueError(f"a and kappa3 must be 1-D of one length (got {a.shape}, {k.shape})")
     if not (np.all(np.isfinite(a)) and np.all(np.isfinite(k))):

@@ -35,6 +35,7 @@ from .buckling import (
     simulate,
 )
 from .genalpha import Newton, Scheme
+from .genalpha.guard import check_time_grid, real
 from .loading import ENDS, AxialLoad, Ends, History, Ramp, ends_from_params, history_from_params
 from .loading import ends as _ends
 from .model import Cosserat
@@ -127,11 +128,9 @@ class Scene:
         if self.history is None:
             if self.a is None:
                 raise ValueError("give the loading rate a (the paper's ramp) or a history")
-            if not (math.isfinite(self.a) and self.a > 0):
+            if not real("a", self.a, " [rad/(m s)]") > 0:
                 raise ValueError(f"a={self.a!r} must be a finite loading rate > 0 rad/(m s)")
-            kappa0 = 10.0 if self.kappa0 is None else self.kappa0
-            if not math.isfinite(kappa0):
-                raise ValueError(f"kappa0={kappa0!r} must be finite")
+            kappa0 = 10.0 if self.kappa0 is None else real("kappa0", self.kappa0, " [1/m]")
             set_(self, "a", float(self.a))
             set_(self, "kappa0", float(kappa0))
         else:
@@ -141,9 +140,9 @@ class Scene:
                 raise ValueError("give either a (and kappa0) or a history, not both")
         if not isinstance(self.n_cells, int | np.integer) or self.n_cells < 2:
             raise ValueError(f"n_cells={self.n_cells!r} must be an integer >= 2")
-        if not (math.isfinite(self.dt) and self.dt > 0):
+        if not real("dt", self.dt, " [s]") > 0:
             raise ValueError(f"dt={self.dt!r} must be > 0")
-        if not (math.isfinite(self.horizon) and self.horizon > 0):
+        if not real("horizon", self.horizon) > 0:
             raise ValueError(f"horizon={self.horizon!r} must be > 0")
         check_window(self.window, self.variations)
         set_(self, "window", tuple(float(v) for v in self.window))
@@ -151,17 +150,18 @@ class Scene:
         set_(self, "n_cells", int(self.n_cells))
         set_(self, "dt", float(self.dt))
         set_(self, "terms", _canonical_terms(self.terms))
-        set_(self, "rotary_inertia_scale", float(self.rotary_inertia_scale))
+        set_(self, "rotary_inertia_scale", real("rotary_inertia_scale", self.rotary_inertia_scale))
         set_(self, "tension", _load(self.tension))
         set_(self, "ends", _ends(self.ends))
         Cosserat(self.rod, terms=dict(self.terms), rotary_inertia_scale=self.rotary_inertia_scale)
-        if self.t_end is not None and not (math.isfinite(self.t_end) and self.t_end > 0):
+        if self.t_end is not None and not real("t_end", self.t_end, " [s]") > 0:
             raise ValueError(f"t_end={self.t_end!r} must be > 0 (or None for the horizon rule)")
         if self.duration() <= 0:
             raise ValueError(
                 f"kappa0={self.kappa0} lies beyond the horizon twist "
                 f"{self.kappa0 + self.a * self.duration():.4g}; give t_end"
             )
+        check_time_grid(self.dt, self.duration())
 
     @classmethod
     def from_params(cls, p: Mapping[str, Any]) -> Scene:

@@ -59,6 +59,9 @@ MP_BUDGET_S = 60.0
 MP_TERM_S, MP_PANEL_S = 3e-5, 2.5e-3
 #: the closed forms refuse more travelling images x points than this
 MAX_IMAGES = 50_000_000
+#: the NumPy Duhamel integrals of eq (29) refuse more evaluations than this per time
+#: (and more than 1/100 of it quadrature nodes, which are held in memory)
+MAX_DUHAMEL_WORK = 2e9
 
 
 # ============================================================================ the model
@@ -315,18 +318,38 @@ def _positive_number(name: str, value) -> float:
     return v
 
 
+#: the range of the scales c, L and rate, and the bound on |a|, |kappa0| and t, within
+#: which the formulas stay inside floating point
+SCALES, MAGNITUDE = (1e-60, 1e60), 1e100
+
+
+def _scale(name: str, value) -> float:
+    v = _positive_number(name, value)
+    if not SCALES[0] <= v <= SCALES[1]:
+        raise ValueError(f"{name}={value!r} must lie in the range [{SCALES[0]:g}, {SCALES[1]:g}]")
+    return v
+
+
 def _finite(name: str, value) -> float:
-    v = float(value)
-    if not math.isfinite(v):
-        raise ValueError(f"{name}={value!r} must be finite")
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name}={value!r} must be a finite number") from None
+    if not (math.isfinite(v) and abs(v) <= MAGNITUDE):
+        raise ValueError(f"{name}={value!r} must be a finite number of size <= {MAGNITUDE:g}")
     return v
 
 
 def _grid(s, t, L):
-    s = np.asarray(s, dtype=float)
-    t = np.asarray(t, dtype=float)
+    try:
+        s = np.asarray(s, dtype=float)
+        t = np.asarray(t, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"s={s!r} and t={t!r} must be numbers or arrays of numbers") from None
     if not (np.all(np.isfinite(s)) and np.all(np.isfinite(t))):
         raise ValueError("s and t must be finite")
+    if np.any(t > MAGNITUDE):
+        raise ValueError(f"t must be <= {MAGNITUDE:g}; got max(t) = {t.max()}")
     if np.any(s < 0) or np.any(s > L * (1 + 1e-12)):
         raise ValueError(f"s must lie in [0, L] = [0, {L}]; got [{s.min()}, {s.max()}]")
     if np.any(t < 0):
@@ -413,9 +436,10 @@ def linear_loading_bound(terms: int, s=None, t=None, *, a: float, c: float, L: f
     if s is None or t is None:
         return uniform
     s, t = np.broadcast_arrays(np.asarray(s, float), np.asarray(t, float))
-    with np.errstate(divide="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore"):
         inv = sum(1.0 / np.abs(np.sin(np.pi * (c * t + sign * s) / (2 * L))) for sign in (1, -1))
-    return np.minimum(uniform, 8 * abs(a) * L / (c * math.pi**2 * (2 * terms + 1) ** 2) * inv)
+        point = 8 * abs(a) * L / (c * math.pi**2 * (2 * terms + 1) ** 2) * inv
+    return np.minimum(uniform, np.where(np.isfinite(inv), point, np.inf))
 
 
 def linear_loading_exact(
@@ -443,7 +467,7 @@ def linear_loading_exact(
     array of mpf; it refuses (:class:`BudgetError`) work estimated above ``budget``
     seconds.
     """
-    c, L = _positive_number("c", c), _positive_number("L", L)
+    c, L = _scale("c", c), _scale("L", L)
     a, kappa0 = _finite("a", a), _finite("kappa0", kappa0)
     s, t = _grid(s, t, L)
 
@@ -457,8 +481,8 @@ def linear_loading_exact(
                 )
                 * 2
             )
-        pointwise = math.ceil((math.sqrt(8 * abs(a) * L * inv / (c * math.pi**2 * tol)) - 1) / 2)
-        return min(uniform, pointwise)
+        root = math.sqrt(8 * abs(a) * L * inv / (c * math.pi**2 * tol)) if inv < math.inf else inv
+        return min(uniform, math.ceil((root - 1) / 2) if math.isfinite(root) else uniform)
 
     n_terms = _terms(terms, tol, needed)
     if precise:
@@ -518,7 +542,7 @@ def instant_release_exact(
     :func:`instant_release_bound` at the worst of the given points (points on a
     front cannot be served; pass ``terms`` or use :func:`instant_release_dalembert`).
     """
-    c, L = _positive_number("c", c), _positive_number("L", L)
+    c, L = _scale("c", c), _scale("L", L)
     kappa0 = _finite("kappa0", kappa0)
     s, t = _grid(s, t, L)
 
@@ -567,6 +591,12 @@ def _duhamel_np(t: float, n_terms: int, f: Transition, rate: float, c: float, L:
     if t == 0.0:
         return np.zeros(n_terms)
     panels = int(max(4, math.ceil(omega[-1] * t / math.pi), math.ceil(rate * t / 0.05)))
+    if 20.0 * panels > MAX_DUHAMEL_WORK / 100 or 20.0 * panels * n_terms > MAX_DUHAMEL_WORK:
+        raise BudgetError(
+            f"t={t:.4g} s: the Duhamel integrals need {panels:.3g} panels x {n_terms} terms "
+            f"(> {MAX_DUHAMEL_WORK:.3g} evaluations); pass earlier times, fewer terms or a "
+            "looser tol (or use smooth_release_dalembert)"
+        )
     xg, wg = np.polynomial.legendre.leggauss(20)
     edges = np.linspace(0.0, t, panels + 1)
     h = np.diff(edges)[:, None]
@@ -673,8 +703,8 @@ def smooth_release_exact(
     refuses (:class:`BudgetError`) work estimated above ``budget`` seconds: each term at
     each distinct time is a quadrature over :func:`_duhamel_pieces` panels.
     """
-    c, L = _positive_number("c", c), _positive_number("L", L)
-    rate = _positive_number("rate", rate)
+    c, L = _scale("c", c), _scale("L", L)
+    rate = _scale("rate", rate)
     kappa0 = _finite("kappa0", kappa0)
     if not isinstance(f, Transition):
         raise ValueError(f"f={f!r} must be a Transition (ExpQuartic, FlatBlend, CustomTransition)")
@@ -723,12 +753,13 @@ def smooth_release_exact(
     k = sqrt_lambda(coef_n, L)
     sign = np.where(coef_n % 2 == 0, 1.0, -1.0)
     amp = sign * 2 * rate**2 * kappa0 / (L * c * k**2)
-    out = kappa0 * f(rate * t, 0)
-    for ti in np.unique(t):
-        mask = t == ti
+    s1, t1 = s.ravel(), t.ravel()
+    out = np.array(kappa0 * f(rate * t1, 0), dtype=float)
+    for ti in np.unique(t1):
+        mask = t1 == ti
         In = _duhamel_np(float(ti), n_terms, f, rate, c, L)
-        out[mask] += np.cos(np.outer(s[mask], k)) @ (amp * In)
-    return out
+        out[mask] += np.cos(np.outer(s1[mask], k)) @ (amp * In)
+    return out.reshape(s.shape)
 
 
 # ========================================================= closed-form d'Alembert solutions
@@ -758,7 +789,7 @@ def _images(t, s, c, L, disturbance, from_left: bool, n_max: int | None = None):
 def linear_loading_dalembert(s, t, *, a: float, kappa0: float = 0.0, c: float, L: float):
     """Closed form of eq (23) with h = kappa0 + a t: kappa0 plus travelling ramps a (t - d/c)_+
     with reflections (same sign at the free end s = L, opposite at the driven end s = 0)."""
-    c, L = _positive_number("c", c), _positive_number("L", L)
+    c, L = _scale("c", c), _scale("L", L)
     a, kappa0 = _finite("a", a), _finite("kappa0", kappa0)
     s, t = _grid(s, t, L)
     # kappa - a t has the period 4L/c of eq (25): evaluate within one period
@@ -769,7 +800,7 @@ def linear_loading_dalembert(s, t, *, a: float, kappa0: float = 0.0, c: float, L
 
 def instant_release_dalembert(s, t, *, kappa0: float, c: float, L: float):
     """Closed form of eq (26): kappa0 minus travelling steps; on a front the mean of both sides."""
-    c, L = _positive_number("c", c), _positive_number("L", L)
+    c, L = _scale("c", c), _scale("L", L)
     kappa0 = _finite("kappa0", kappa0)
     s, t = _grid(s, t, L)
     step = lambda tau: -kappa0 * np.heaviside(tau, 0.5)  # noqa: E731
@@ -788,7 +819,7 @@ def smooth_release_dalembert(
     f: Transition = DEFAULT_TRANSITION,
 ):
     """Closed form of eq (28): kappa0 + travelling copies of kappa0 (f(rate t) - 1)."""
-    c, L = _positive_number("c", c), _positive_number("L", L)
+    c, L = _scale("c", c), _scale("L", L)
     s, t = _grid(s, t, L)
     return kappa0 + _images(t, s, c, L, lambda tau: kappa0 * (f(rate * tau) - 1.0), from_left=False)
 

@@ -12,6 +12,7 @@ import numpy as np
 
 __all__ = [
     "BudgetError",
+    "real",
     "check_time_grid",
     "check_memory",
     "available_memory",
@@ -30,6 +31,18 @@ class BudgetError(ValueError):
 
 def _real(value) -> bool:
     return isinstance(value, int | float | np.integer | np.floating) and not isinstance(value, bool)
+
+
+def real(name: str, value, unit: str = "") -> float:
+    """``value`` as a float, or a TypeError (not a real number) or ValueError (not
+    finite) naming ``name``."""
+    if not _real(value):
+        raise TypeError(
+            f"{name}={value!r} must be a finite real number{unit}, not {type(value).__name__}"
+        )
+    if not math.isfinite(value):
+        raise ValueError(f"{name}={value!r} must be a finite real number{unit}")
+    return float(value)
 
 
 def check_time_grid(
