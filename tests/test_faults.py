@@ -373,3 +373,20 @@ def test_cli_one_line_and_debug_traceback(tmp_path):
     assert proc.returncode != 0 and "Traceback" in proc.stderr
     proc = _cli("fit", "--preset", "fig10", "--store", str(tmp_path / "none"))
     _one_line_error(proc, 1, "not in", "make data")
+
+
+@pytest.mark.parametrize(
+    "err, status, words",
+    [
+        (ValueError("dt=0 must be > 0"), 2, "dt=0"),
+        (PermissionError(errno.EACCES, "Permission denied", "/ro/x.json"), 1, "/ro/x.json"),
+        (MemoryError(), 1, "raise --dt"),
+        (R.StaleResultError("a.json is stale: x. Recompute it"), 1, "a.json"),
+        (KeyError("boom"), 3, "--debug"),
+    ],
+)
+def test_every_error_kind_gets_one_line_and_a_status(err, status, words):
+    from dyntorsion.faults import describe
+
+    line, code = describe(err)
+    assert code == status and words in line and "\n" not in line
