@@ -18,7 +18,7 @@ def describe(err: BaseException) -> tuple[str, int]:
 
     lines = [ln.strip() for ln in str(err).splitlines() if ln.strip()]
     text = (
-        lines[0]
+        " ".join(lines)
         if len(lines) < 2
         else f"{lines[0]} ({lines[1]}{', ...' if len(lines) > 3 else ''}); {lines[-1]}"
     )
