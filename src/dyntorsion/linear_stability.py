@@ -60,6 +60,7 @@ import pandas as pd
 import scipy.linalg
 import scipy.optimize
 
+from . import passage as passage_kernel
 from .buckling import Perturbation, critical_twist
 from .results import Store
 from .rod import Rod
@@ -326,14 +327,14 @@ class LateralModel:
         return np.interp(kappa3, grid, cum) / a
 
     # ------------------------------------------------------------------ the slow passage
-    def seed_load(self, seed: Perturbation) -> Callable[[np.ndarray], np.ndarray]:
-        """theta -> F_i = int phi_i f ds: the modal load of the body-frame seed for the
-        angle theta of d1 at the nodes (what does not depend on theta is done once)."""
+    def seed_rows(self, seed: Perturbation) -> tuple[np.ndarray, np.ndarray]:
+        """The body-frame seed as modal rows R_p at points s_p: F_i = sum_p R_pi
+        exp(i theta(s_p)), theta the angle of d1 (quadrature points for a uniform
+        seed, the point itself for a point seed)."""
         d = np.asarray(seed.direction, dtype=float)
         lateral = (d[0] + 1j * d[1]) * seed.magnitude
         if seed.form == "uniform":
-            weights = self._w * lateral
-            return lambda theta: self._phi.T @ (weights * np.exp(1j * theta))
+            return (self._w * lateral)[:, None] * self._phi, self._s
         if not 0 <= seed.location <= self.rod.L:
             raise ValueError(
                 f"perturbation location={seed.location!r} must lie in [0, L] = [0, {self.rod.L}]"
@@ -341,7 +342,13 @@ class LateralModel:
         phi0 = np.array(
             [np.interp(seed.location, self._s, self._phi[:, j]) for j in range(self.modes)]
         )
-        return lambda theta: phi0 * lateral * np.exp(1j * np.interp(seed.location, self._s, theta))
+        return (phi0 * lateral)[None, :], np.array([float(seed.location)])
+
+    def seed_load(self, seed: Perturbation) -> Callable[[np.ndarray], np.ndarray]:
+        """theta -> F_i = int phi_i f ds: the modal load of the body-frame seed for the
+        angle theta of d1 at the seed's points (:meth:`seed_rows`)."""
+        rows, _ = self.seed_rows(seed)
+        return lambda theta: rows.T @ np.exp(1j * np.asarray(theta))
 
     def passage(
         self,
@@ -392,40 +399,29 @@ class LateralModel:
         n_steps = int(math.ceil(t_end / dt))
         dt = t_end / n_steps
         m = self.modes
-        Mlu = scipy.linalg.lu_factor(self._M)
-        state = base.at(self._s)
-
-        load = self.seed_load(seed)
-
-        def coefficients(t):
-            """(F, K, G) of (L2) at the time t: they depend on t only, not on the state."""
-            kappa, omega, omega_t, theta = state(t)
-            G = self.gyroscopic(omega) if spin and self._rhoJ else None
-            return load(theta), self.stiffness(kappa, omega_t), G
-
-        def rhs(y, c):
-            (F, K, G), q, v = c, y[:m], y[m:]
-            force = F - K @ q
-            if G is not None:
-                force = force - G @ v
-            return np.concatenate([v, scipy.linalg.lu_solve(Mlu, force)])
-
-        def u3(y):
-            q, v = y[:m], y[m:]
-            return -np.real(np.conj(q) @ (self._P @ v))
+        T = passage_kernel.tensors(self, base, *self.seed_rows(seed), spin=spin)
+        every = max(1, n_steps // samples)
+        ts = np.empty(n_steps // every + 2)
+        ys = np.empty((ts.size, 2 * m), dtype=complex)
+        last = np.empty((4, 2 * m), dtype=complex)
+        nrec, status, t = passage_kernel.march(T, dt, n_steps, every, float(u_ref), ts, ys, last)
+        if status < 0:
+            raise RuntimeError(f"the linear passage blew up at t = {t:.6g} s: reduce dt={dt}")
 
         def u3_rate(y, f):
             q, v, acc = y[:m], y[m:], f[m:]
             return -np.real(np.conj(v) @ (self._P @ v) + np.conj(q) @ (self._P @ acc))
 
-        def crossing(t0, y0, f0, y1, f1):
-            """u_ref on the cubic Hermite interpolant of u3 over [t0, t0 + dt]."""
-            a0, a1 = u3(y0), u3(y1)
+        t_ref = math.nan
+        if status == 1:
+            y0, f0, y1, f1 = last
+            a0, a1 = passage_kernel.u3(T, y0), passage_kernel.u3(T, y1)
             sign = np.sign(a1)
             h0, h1 = a0 * sign, a1 * sign
             d0, d1 = u3_rate(y0, f0) * sign * dt, u3_rate(y1, f1) * sign * dt
 
             def U(x):
+                """|u3| - u_ref on the cubic Hermite interpolant over the last step."""
                 return (
                     (2 * x**3 - 3 * x**2 + 1) * h0
                     + (x**3 - 2 * x**2 + x) * d0
@@ -435,39 +431,13 @@ class LateralModel:
                 )
 
             if U(0.0) >= 0.0:  # u3 changed sign within the step: fall back to a line
-                return t0 + (u_ref - abs(a0)) / (abs(a1) - abs(a0)) * dt
-            return t0 + scipy.optimize.brentq(U, 0.0, 1.0, xtol=1e-14) * dt
-
-        every = max(1, n_steps // samples)
-        y = np.zeros(2 * m, dtype=complex)
-        t = 0.0
-        ts, ys = [0.0], [y]
-        t_ref = math.nan
-        c_new = coefficients(t)
-        for n in range(1, n_steps + 1):
-            t_new = n * dt
-            c_old, c_mid, c_new = c_new, coefficients(t + dt / 2), coefficients(t_new)
-            k1 = rhs(y, c_old)
-            k2 = rhs(y + dt / 2 * k1, c_mid)
-            k3 = rhs(y + dt / 2 * k2, c_mid)
-            k4 = rhs(y + dt * k3, c_new)
-            y_old, y = y, y + dt / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
-            reached = abs(u3(y)) >= u_ref
-            if not np.all(np.isfinite(y)):
-                raise RuntimeError(
-                    f"the linear passage blew up at t = {t_new:.6g} s: reduce dt={dt}"
-                )
-            if n % every == 0 or reached:
-                ts.append(t_new)
-                ys.append(y)
-            if reached:
-                t_ref = crossing(t, y_old, k1, y, rhs(y, c_new))
-                break
-            t = t_new
-        ts, ys = np.array(ts), np.array(ys).T
+                t_ref = t + (u_ref - abs(a0)) / (abs(a1) - abs(a0)) * dt
+            else:
+                t_ref = t + scipy.optimize.brentq(U, 0.0, 1.0, xtol=1e-14) * dt
+        ts, ys = ts[:nrec], ys[:nrec].T
         return Passage(
             t=ts,
-            u3=np.array([u3(ys[:, i]) for i in range(ts.size)]),
+            u3=np.array([passage_kernel.u3(T, ys[:, i]) for i in range(ts.size)]),
             kappa3=kappa0 + a * ts,
             amplitude=np.sqrt(
                 np.real(np.sum(np.conj(ys[:m]) * (self._M @ ys[:m]), axis=0))
