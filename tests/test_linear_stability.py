@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from dyntorsion import Rod
+from dyntorsion import linear_predictions as LP
 from dyntorsion import linear_stability as LS
 from dyntorsion import results as R
 from dyntorsion import sweep as S
@@ -242,7 +243,7 @@ def test_point_seed_and_bad_input(fast_model):
     with pytest.raises(ValueError, match="quadrature"):
         LS.LateralModel(ROD, modes=20, quadrature=50)
     with pytest.raises(ValueError, match="preset"):
-        LS.preset("nope")
+        LP.preset("nope")
 
 
 def test_unreached_threshold_gives_nan(fast_model):
@@ -252,15 +253,15 @@ def test_unreached_threshold_gives_nan(fast_model):
 
 # ------------------------------------------------------------------ cache and findings
 def test_prediction_cache_round_trip(tmp_path, monkeypatch):
-    pred = LS.Prediction(S.Scene(a=12.8), waves=False, modes=4)
-    table = LS.predict([pred], tmp_path)
-    rec = next(R.Store(tmp_path).records(LS.KIND))
-    assert rec["provenance"]["code"] == R.code_of(LS.KIND) != R.code_of(S.KIND)
-    monkeypatch.setattr(LS, "run_prediction", lambda p: pytest.fail("recomputed"))
-    again = LS.predict([pred], tmp_path, compute=False)
+    pred = LP.Prediction(S.Scene(a=12.8), waves=False, modes=4)
+    table = LP.predict([pred], tmp_path)
+    rec = next(R.Store(tmp_path).records(LP.KIND))
+    assert rec["provenance"]["code"] == R.code_of(LP.KIND) != R.code_of(S.KIND)
+    monkeypatch.setattr(LP, "run_prediction", lambda p: pytest.fail("recomputed"))
+    again = LP.predict([pred], tmp_path, compute=False)
     assert again["kappa3_ref"].iloc[0] == table["kappa3_ref"].iloc[0]
     with pytest.raises(S.MissingResultError, match="make data"):
-        LS.predict([LS.Prediction(S.Scene(a=1.0), modes=4)], tmp_path, compute=False)
+        LP.predict([LP.Prediction(S.Scene(a=1.0), modes=4)], tmp_path, compute=False)
 
 
 @pytest.mark.parametrize("seed", ["", "-tiny-seed"])
@@ -269,7 +270,7 @@ def test_linear_theory_predicts_the_simulated_onset_over_fig10(seed):
     prediction of the time |u3(L)| reaches u_ref lies within 3 % of the simulated one at
     every rate of Fig 10 (stated and tiny seed), and is never later."""
     sim = S.cached("fig10" + seed)
-    lin = LS.cached("linear-fig10" + seed)
+    lin = LP.cached("linear-fig10" + seed)
     ratio = lin["t_ref"].to_numpy() / sim["t_ref"].to_numpy()
     assert np.all(ratio < 1.0) and np.all(ratio > 0.97), ratio
 
@@ -280,15 +281,15 @@ def test_cli_reads_the_committed_predictions(capsys):
     assert main(["linear", "--preset", "linear-variants", "--on-stale", "error", "--quiet"]) == 0
     out = capsys.readouterr().out
     assert "kappa3_ref" in out and len(out.strip().splitlines()) == 1 + len(
-        LS.preset("linear-variants")
+        LP.preset("linear-variants")
     )
 
 
 def test_a_committed_prediction_is_reproduced():
     """Recomputing the cheapest committed prediction (a = 12.8, no waves) gives the cached
     numbers (to 1e-9: a different BLAS may reorder sums)."""
-    pred = LS.Prediction(S.Scene(a=12.8), waves=False)
-    cached = LS.predict([pred], compute=False, on_stale="error").iloc[0]
-    fresh = LS.run_prediction(pred)
+    pred = LP.Prediction(S.Scene(a=12.8), waves=False)
+    cached = LP.predict([pred], compute=False, on_stale="error").iloc[0]
+    fresh = LP.run_prediction(pred)
     assert fresh["kappa3_ref"] == pytest.approx(cached["kappa3_ref"], rel=1e-9)
     assert fresh["t_ref"] == pytest.approx(cached["t_ref"], rel=1e-9)

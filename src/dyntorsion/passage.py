@@ -24,13 +24,35 @@ the point itself for a point seed).
 
 from __future__ import annotations
 
+import math
+from dataclasses import dataclass, field
 from typing import NamedTuple
 
 import numpy as np
+import scipy.optimize
 
 from ._numba import jit
 
-__all__ = ["Tensors", "tensors", "march", "u3"]
+__all__ = ["Passage", "Tensors", "tensors", "march", "run", "u3"]
+
+
+@dataclass
+class Passage:
+    """A linear run through the instability: traces and the predicted onset."""
+
+    t: np.ndarray
+    u3: np.ndarray
+    kappa3: np.ndarray
+    amplitude: np.ndarray
+    t_ref: float
+    kappa3_ref: float
+    u_ref: float
+    params: dict = field(default_factory=dict)
+
+    @property
+    def reached(self) -> bool:
+        """Whether ``|u3(L)|`` reached u_ref before the end of the run."""
+        return math.isfinite(self.t_ref)
 
 
 class Tensors(NamedTuple):
@@ -202,3 +224,74 @@ def march(T, dt, n_steps, every, u_ref, ts, ys, last):
             return nrec, 1, t
         t = t_new
     return nrec, 0, t
+
+
+def _crossing(model, T, t, dt, last, u_ref) -> float:
+    """The time u3(L) reaches u_ref on the cubic Hermite interpolant of u3 over the last
+    step [t, t + dt] (order 4, like the steps), from y and dy/dt at both ends."""
+    m, P = model.modes, model._P
+
+    def u3_rate(y, f):
+        q, v, acc = y[:m], y[m:], f[m:]
+        return -np.real(np.conj(v) @ (P @ v) + np.conj(q) @ (P @ acc))
+
+    y0, f0, y1, f1 = last
+    a0, a1 = u3(T, y0), u3(T, y1)
+    sign = np.sign(a1)
+    h0, h1 = a0 * sign, a1 * sign
+    d0, d1 = u3_rate(y0, f0) * sign * dt, u3_rate(y1, f1) * sign * dt
+
+    def U(x):
+        return (
+            (2 * x**3 - 3 * x**2 + 1) * h0
+            + (x**3 - 2 * x**2 + x) * d0
+            + (-2 * x**3 + 3 * x**2) * h1
+            + (x**3 - x**2) * d1
+            - u_ref
+        )
+
+    if U(0.0) >= 0.0:  # u3 changed sign within the step: fall back to a line
+        return t + (u_ref - abs(a0)) / (abs(a1) - abs(a0)) * dt
+    return t + scipy.optimize.brentq(U, 0.0, 1.0, xtol=1e-14) * dt
+
+
+def run(model, base, seed, dt: float, n_steps: int, samples: int, u_ref: float) -> Passage:
+    """March ``model`` (a LateralModel) about ``base`` (a Prebuckling) from rest with the
+    seed ``seed`` for ``n_steps`` steps of ``dt`` or until |u3(L)| = u_ref; about
+    ``samples`` samples are kept."""
+    m, r = model.modes, model.rod
+    T = tensors(model, base, *model.seed_rows(seed), spin=base.spin)
+    every = max(1, n_steps // samples)
+    ts = np.empty(n_steps // every + 2)
+    ys = np.empty((ts.size, 2 * m), dtype=complex)
+    last = np.empty((4, 2 * m), dtype=complex)
+    nrec, status, t = march(T, dt, n_steps, every, float(u_ref), ts, ys, last)
+    if status < 0:
+        raise RuntimeError(f"the linear passage blew up at t = {t:.6g} s: reduce dt={dt}")
+    t_ref = _crossing(model, T, t, dt, last, u_ref) if status == 1 else math.nan
+    ts, ys = ts[:nrec], ys[:nrec].T
+    return Passage(
+        t=ts,
+        u3=np.array([u3(T, ys[:, i]) for i in range(ts.size)]),
+        kappa3=base.kappa0 + base.a * ts,
+        amplitude=np.sqrt(
+            np.real(np.sum(np.conj(ys[:m]) * (model._M @ ys[:m]), axis=0))
+            / (r.mass_per_length * r.L)
+        ),
+        t_ref=t_ref,
+        kappa3_ref=base.kappa0 + base.a * t_ref,
+        u_ref=float(u_ref),
+        params={
+            "a": base.a,
+            "kappa0": base.kappa0,
+            "seed": {"magnitude": seed.magnitude, "form": seed.form, "location": seed.location},
+            "waves": base.waves,
+            "spin": base.spin,
+            "terms": base.terms,
+            "modes": model.modes,
+            "quadrature": model.quadrature,
+            "rotary_inertia": model.rotary_inertia,
+            "gyro": model.gyro,
+            "dt": dt,
+        },
+    )
