@@ -171,7 +171,7 @@ def u3(T, y):
 
 @jit
 def march(T, dt, n_steps, every, u_ref, ts, ys, last):
-    """Classical Runge-Kutta (order 4) from rest until |u3(L)| >= u_ref or n_steps.
+    """Classical Runge-Kutta (order 4) from rest until ``|u3(L)| >= u_ref`` or n_steps.
 
     Samples every ``every`` steps (and the last) go to ``ts``/``ys``; ``last`` gets
     y and dy/dt before and after the final step.  Returns (samples, status, time):
@@ -257,7 +257,7 @@ def _crossing(model, T, t, dt, last, u_ref) -> float:
 
 def run(model, base, seed, dt: float, n_steps: int, samples: int, u_ref: float) -> Passage:
     """March ``model`` (a LateralModel) about ``base`` (a Prebuckling) from rest with the
-    seed ``seed`` for ``n_steps`` steps of ``dt`` or until |u3(L)| = u_ref; about
+    seed ``seed`` for ``n_steps`` steps of ``dt`` or until ``|u3(L)| = u_ref``; about
     ``samples`` samples are kept."""
     m, r = model.modes, model.rod
     T = tensors(model, base, *model.seed_rows(seed), spin=base.spin)
