@@ -293,3 +293,16 @@ def test_a_committed_prediction_is_reproduced():
     fresh = LP.run_prediction(pred)
     assert fresh["kappa3_ref"] == pytest.approx(cached["kappa3_ref"], rel=1e-9)
     assert fresh["t_ref"] == pytest.approx(cached["t_ref"], rel=1e-9)
+
+
+def test_fast_estimate_is_within_3_percent_of_the_simulated_onsets():
+    """linear_predictions.estimate against the committed Fig 10 sweeps (stated and tiny
+    seed): the threshold time within 3 % of the simulation's at every rate."""
+    for name in ("fig10", "fig10-tiny-seed"):
+        sim = S.cached(name)
+        for sc, t_ref in zip(S.preset(name), sim.t_ref, strict=True):
+            e = LP.estimate(sc)
+            assert 6 <= e.modes <= 24
+            assert e.t_ref == pytest.approx(t_ref, rel=0.03), (name, sc.a)
+    with pytest.raises(ValueError, match="axial load"):
+        LP.estimate(S.Scene(a=1.6, tension=0.01, t_end=10.0))

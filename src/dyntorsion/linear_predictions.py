@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from functools import lru_cache
 from pathlib import Path
 from typing import Any
 
@@ -31,6 +32,8 @@ __all__ = [
     "PRESETS",
     "preset",
     "cached",
+    "Estimate",
+    "estimate",
 ]
 
 #: record kind of a cached linear prediction (its code fingerprint: results.KIND_ROOTS)
@@ -207,3 +210,42 @@ def preset(name: str) -> list[Prediction]:
 def cached(name: str, store: Store | str | Path | None = None) -> pd.DataFrame:
     """A named preset's table read from ``store``, computing nothing."""
     return predict(preset(name), store, compute=False, on_stale="error")
+
+
+@dataclass(frozen=True)
+class Estimate:
+    """A fast onset estimate (:func:`estimate`): the threshold time and twist of the
+    uniform-ramp linear passage with the number of modes it chose."""
+
+    t_ref: float
+    kappa3_ref: float
+    modes: int
+
+
+@lru_cache(maxsize=32)
+def _ramp_model(rod: Any, modes: int) -> LateralModel:
+    return LateralModel(rod, modes=modes, quadrature=4 * modes + 16)
+
+
+def estimate(scene: Scene, *, min_modes: int = 6, max_modes: int = 24) -> Estimate:
+    """The onset of ``scene`` from the linear theory at the least cost: the passage of
+    (L2) on the uniform ramp (no torsional waves), first with ``min_modes`` modes, then
+    with enough modes for the helix the rod buckles into.
+
+    At the twist kappa3 the critical helix of the clamped rod has the wave number
+    M / (2 B) = C kappa3 / (2 B), about C kappa3 L / (2 pi B) half-waves along the rod;
+    the second pass keeps twice that many beam modes plus two (within ``[min_modes,
+    max_modes]``).  The rule is empirical: its error against the simulated onsets is
+    measured on the "Accuracy and cost" page.  It covers the scenes
+    :class:`Prediction` covers, and like the linear theory it fails for seeds that bend
+    the rod appreciably before the instability (seeds of 1e-7 N/m and more here).
+    """
+    Prediction(scene)  # the scenes the linear theory covers, or a ValueError
+    sc, rod = scene, scene.rod
+    first = _ramp_model(rod, min_modes).passage(sc.a, sc.kappa0, sc.seed, waves=False)
+    if not first.reached:
+        return Estimate(math.nan, math.nan, min_modes)
+    half_waves = rod.C * first.kappa3_ref * rod.L / (2 * math.pi * rod.B1)
+    modes = int(min(max_modes, max(min_modes, math.ceil(2 * half_waves) + 2)))
+    p = _ramp_model(rod, modes).passage(sc.a, sc.kappa0, sc.seed, waves=False)
+    return Estimate(p.t_ref, p.kappa3_ref, modes)
