@@ -76,6 +76,7 @@ lint: $(VENV)/.lint-installed
 bench: $(VENV)/.test-installed
 	$(PY) benchmarks/bench_engine.py
 	$(PY) benchmarks/bench_scenes.py
+	$(PY) benchmarks/bench_targets.py
 
 clean:
 	rm -rf docs/_build docs/jupyter_execute paper/figures .pytest_cache

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from dyntorsion import Rod
+from dyntorsion import linear_predictions as LP
 from dyntorsion import linear_stability as LS
 from dyntorsion import results as R
 from dyntorsion import sweep as S
@@ -138,6 +139,58 @@ def fast_model():
     return LS.LateralModel(ROD, modes=8, quadrature=64)
 
 
+def _reference_passage(model, a, seed, *, waves, spin, terms, dt, t_stop):
+    """u3(L) at t_stop by the plain NumPy route: coefficients of (L2) integrated on the
+    quadrature points from the prebuckling state at every stage time (no separation of
+    the series into fixed matrices), classical Runge-Kutta with the same steps."""
+    base = LS.Prebuckling(ROD, a, 10.0, waves=waves, spin=spin, terms=terms)
+    rows, points = model.seed_rows(seed)
+    at_nodes, at_seed = base.at(model._s), base.at(points)
+    m = model.modes
+    Minv = np.linalg.inv(model._M)
+
+    def rhs(t, y):
+        kappa, omega, omega_t, _ = at_nodes(t)
+        theta = at_seed(t)[3]
+        force = rows.T @ np.exp(1j * theta) - model.stiffness(kappa, omega_t) @ y[:m]
+        if spin:
+            force = force - model.gyroscopic(omega) @ y[m:]
+        return np.concatenate([y[m:], Minv @ force])
+
+    y = np.zeros(2 * m, dtype=complex)
+    for n in range(round(t_stop / dt)):
+        t = n * dt
+        k1 = rhs(t, y)
+        k2 = rhs(t + dt / 2, y + dt / 2 * k1)
+        k3 = rhs(t + dt / 2, y + dt / 2 * k2)
+        k4 = rhs(t + dt, y + dt * k3)
+        y = y + dt / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+    return -np.real(np.conj(y[:m]) @ (model._P @ y[m:]))
+
+
+@pytest.mark.parametrize(
+    "waves, spin, seed",
+    [
+        (True, True, Perturbation(1e-8)),
+        (True, False, Perturbation(1e-8)),
+        (False, True, Perturbation(1e-8, "point", 0.3, (0.6, 0.8, 0.0))),
+    ],
+)
+def test_compiled_passage_matches_the_plain_route(fast_model, waves, spin, seed):
+    """The compiled march over separated coefficient matrices (dyntorsion.passage) gives
+    the u3(L) trace of the plain NumPy evaluation of (L2) to round-off."""
+    a, dt, t_stop = 12.8, 2e-3, 2.0
+    p = fast_model.passage(
+        a, 10.0, seed, waves=waves, spin=spin, terms=4, dt=dt, t_end=t_stop, samples=1
+    )
+    assert not p.reached and p.t[-1] == pytest.approx(t_stop)
+    ref = _reference_passage(
+        fast_model, a, seed, waves=waves, spin=spin, terms=4, dt=dt, t_stop=t_stop
+    )
+    assert ref != 0.0
+    assert p.u3[-1] == pytest.approx(ref, rel=1e-10)
+
+
 def test_passage_converges_at_fourth_order_in_dt(fast_model):
     """Runge-Kutta 4: the crossing time for dt, dt/2, dt/4 converges with observed order ~4."""
     t = [
@@ -190,7 +243,7 @@ def test_point_seed_and_bad_input(fast_model):
     with pytest.raises(ValueError, match="quadrature"):
         LS.LateralModel(ROD, modes=20, quadrature=50)
     with pytest.raises(ValueError, match="preset"):
-        LS.preset("nope")
+        LP.preset("nope")
 
 
 def test_unreached_threshold_gives_nan(fast_model):
@@ -200,15 +253,15 @@ def test_unreached_threshold_gives_nan(fast_model):
 
 # ------------------------------------------------------------------ cache and findings
 def test_prediction_cache_round_trip(tmp_path, monkeypatch):
-    pred = LS.Prediction(S.Scene(a=12.8), waves=False, modes=4)
-    table = LS.predict([pred], tmp_path)
-    rec = next(R.Store(tmp_path).records(LS.KIND))
-    assert rec["provenance"]["code"] == R.code_of(LS.KIND) != R.code_of(S.KIND)
-    monkeypatch.setattr(LS, "run_prediction", lambda p: pytest.fail("recomputed"))
-    again = LS.predict([pred], tmp_path, compute=False)
+    pred = LP.Prediction(S.Scene(a=12.8), waves=False, modes=4)
+    table = LP.predict([pred], tmp_path)
+    rec = next(R.Store(tmp_path).records(LP.KIND))
+    assert rec["provenance"]["code"] == R.code_of(LP.KIND) != R.code_of(S.KIND)
+    monkeypatch.setattr(LP, "run_prediction", lambda p: pytest.fail("recomputed"))
+    again = LP.predict([pred], tmp_path, compute=False)
     assert again["kappa3_ref"].iloc[0] == table["kappa3_ref"].iloc[0]
     with pytest.raises(S.MissingResultError, match="make data"):
-        LS.predict([LS.Prediction(S.Scene(a=1.0), modes=4)], tmp_path, compute=False)
+        LP.predict([LP.Prediction(S.Scene(a=1.0), modes=4)], tmp_path, compute=False)
 
 
 @pytest.mark.parametrize("seed", ["", "-tiny-seed"])
@@ -217,7 +270,7 @@ def test_linear_theory_predicts_the_simulated_onset_over_fig10(seed):
     prediction of the time |u3(L)| reaches u_ref lies within 3 % of the simulated one at
     every rate of Fig 10 (stated and tiny seed), and is never later."""
     sim = S.cached("fig10" + seed)
-    lin = LS.cached("linear-fig10" + seed)
+    lin = LP.cached("linear-fig10" + seed)
     ratio = lin["t_ref"].to_numpy() / sim["t_ref"].to_numpy()
     assert np.all(ratio < 1.0) and np.all(ratio > 0.97), ratio
 
@@ -228,15 +281,28 @@ def test_cli_reads_the_committed_predictions(capsys):
     assert main(["linear", "--preset", "linear-variants", "--on-stale", "error", "--quiet"]) == 0
     out = capsys.readouterr().out
     assert "kappa3_ref" in out and len(out.strip().splitlines()) == 1 + len(
-        LS.preset("linear-variants")
+        LP.preset("linear-variants")
     )
 
 
 def test_a_committed_prediction_is_reproduced():
     """Recomputing the cheapest committed prediction (a = 12.8, no waves) gives the cached
     numbers (to 1e-9: a different BLAS may reorder sums)."""
-    pred = LS.Prediction(S.Scene(a=12.8), waves=False)
-    cached = LS.predict([pred], compute=False, on_stale="error").iloc[0]
-    fresh = LS.run_prediction(pred)
+    pred = LP.Prediction(S.Scene(a=12.8), waves=False)
+    cached = LP.predict([pred], compute=False, on_stale="error").iloc[0]
+    fresh = LP.run_prediction(pred)
     assert fresh["kappa3_ref"] == pytest.approx(cached["kappa3_ref"], rel=1e-9)
     assert fresh["t_ref"] == pytest.approx(cached["t_ref"], rel=1e-9)
+
+
+def test_fast_estimate_is_within_3_percent_of_the_simulated_onsets():
+    """linear_predictions.estimate against the committed Fig 10 sweeps (stated and tiny
+    seed): the threshold time within 3 % of the simulation's at every rate."""
+    for name in ("fig10", "fig10-tiny-seed"):
+        sim = S.cached(name)
+        for sc, t_ref in zip(S.preset(name), sim.t_ref, strict=True):
+            e = LP.estimate(sc)
+            assert 6 <= e.modes <= 24
+            assert e.t_ref == pytest.approx(t_ref, rel=0.03), (name, sc.a)
+    with pytest.raises(ValueError, match="axial load"):
+        LP.estimate(S.Scene(a=1.6, tension=0.01, t_end=10.0))

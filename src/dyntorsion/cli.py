@@ -355,7 +355,7 @@ def _sweep(args: argparse.Namespace) -> int:
 
 
 def _linear(args: argparse.Namespace) -> int:
-    from . import linear_stability as LS
+    from . import linear_predictions as LS
 
     preds = [p for name in args.preset for p in LS.preset(name)]
     table = LS.predict(
@@ -395,7 +395,7 @@ def _fit(args: argparse.Namespace) -> int:
 
 
 def _linear_presets() -> list[str]:
-    from .linear_stability import PRESETS as LINEAR
+    from .linear_predictions import PRESETS as LINEAR
 
     return list(LINEAR)
 
@@ -448,7 +448,7 @@ def parser() -> argparse.ArgumentParser:
 
     lin = sub.add_parser(
         "linear",
-        help="linear-stability predictions of the onset (dyntorsion.linear_stability; cached)",
+        help="linear-stability predictions of the onset (dyntorsion.linear_predictions; cached)",
     )
     lin.add_argument(
         "--preset",

@@ -49,35 +49,20 @@ prediction of the buckling time with no fitted parameter.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from functools import lru_cache
-from pathlib import Path
-from typing import Any
 
 import numpy as np
-import pandas as pd
 import scipy.linalg
 import scipy.optimize
 
+from . import passage as passage_kernel
 from .buckling import Perturbation, critical_twist
-from .results import Store
+from .passage import Passage
 from .rod import Rod
-from .sweep import IMPERFECTION_RATES, Scene, cached_map
-from .sweep import preset as sweep_preset_scenes
 
-__all__ = [
-    "Prebuckling",
-    "LateralModel",
-    "Passage",
-    "Prediction",
-    "run_prediction",
-    "predict",
-    "VARIANTS",
-    "PRESETS",
-    "preset",
-    "cached",
-]
+__all__ = ["Prebuckling", "LateralModel", "Passage"]
 
 
 def _beta(j: int) -> float:
@@ -191,25 +176,6 @@ class Prebuckling:
 
 
 # ======================================================================= the lateral model
-@dataclass
-class Passage:
-    """A linear run through the instability: traces and the predicted onset."""
-
-    t: np.ndarray
-    u3: np.ndarray
-    kappa3: np.ndarray
-    amplitude: np.ndarray
-    t_ref: float
-    kappa3_ref: float
-    u_ref: float
-    params: dict = field(default_factory=dict)
-
-    @property
-    def reached(self) -> bool:
-        """Whether ``|u3(L)|`` reached u_ref before the end of the run."""
-        return math.isfinite(self.t_ref)
-
-
 @dataclass(frozen=True)
 class LateralModel:
     """Eq (L2) of the module docstring: the Galerkin model of (L1).
@@ -326,14 +292,14 @@ class LateralModel:
         return np.interp(kappa3, grid, cum) / a
 
     # ------------------------------------------------------------------ the slow passage
-    def seed_load(self, seed: Perturbation) -> Callable[[np.ndarray], np.ndarray]:
-        """theta -> F_i = int phi_i f ds: the modal load of the body-frame seed for the
-        angle theta of d1 at the nodes (what does not depend on theta is done once)."""
+    def seed_rows(self, seed: Perturbation) -> tuple[np.ndarray, np.ndarray]:
+        """The body-frame seed as modal rows R_p at points s_p: F_i = sum_p R_pi
+        exp(i theta(s_p)), theta the angle of d1 (quadrature points for a uniform
+        seed, the point itself for a point seed)."""
         d = np.asarray(seed.direction, dtype=float)
         lateral = (d[0] + 1j * d[1]) * seed.magnitude
         if seed.form == "uniform":
-            weights = self._w * lateral
-            return lambda theta: self._phi.T @ (weights * np.exp(1j * theta))
+            return (self._w * lateral)[:, None] * self._phi, self._s
         if not 0 <= seed.location <= self.rod.L:
             raise ValueError(
                 f"perturbation location={seed.location!r} must lie in [0, L] = [0, {self.rod.L}]"
@@ -341,7 +307,13 @@ class LateralModel:
         phi0 = np.array(
             [np.interp(seed.location, self._s, self._phi[:, j]) for j in range(self.modes)]
         )
-        return lambda theta: phi0 * lateral * np.exp(1j * np.interp(seed.location, self._s, theta))
+        return (phi0 * lateral)[None, :], np.array([float(seed.location)])
+
+    def seed_load(self, seed: Perturbation) -> Callable[[np.ndarray], np.ndarray]:
+        """theta -> F_i = int phi_i f ds: the modal load of the body-frame seed for the
+        angle theta of d1 at the seed's points (:meth:`seed_rows`)."""
+        rows, _ = self.seed_rows(seed)
+        return lambda theta: rows.T @ np.exp(1j * np.asarray(theta))
 
     def passage(
         self,
@@ -390,280 +362,4 @@ class LateralModel:
         if not (math.isfinite(dt) and 0 < dt < t_end):
             raise ValueError(f"dt={dt!r} must be finite and in (0, t_end = {t_end})")
         n_steps = int(math.ceil(t_end / dt))
-        dt = t_end / n_steps
-        m = self.modes
-        Mlu = scipy.linalg.lu_factor(self._M)
-        state = base.at(self._s)
-
-        load = self.seed_load(seed)
-
-        def coefficients(t):
-            """(F, K, G) of (L2) at the time t: they depend on t only, not on the state."""
-            kappa, omega, omega_t, theta = state(t)
-            G = self.gyroscopic(omega) if spin and self._rhoJ else None
-            return load(theta), self.stiffness(kappa, omega_t), G
-
-        def rhs(y, c):
-            (F, K, G), q, v = c, y[:m], y[m:]
-            force = F - K @ q
-            if G is not None:
-                force = force - G @ v
-            return np.concatenate([v, scipy.linalg.lu_solve(Mlu, force)])
-
-        def u3(y):
-            q, v = y[:m], y[m:]
-            return -np.real(np.conj(q) @ (self._P @ v))
-
-        def u3_rate(y, f):
-            q, v, acc = y[:m], y[m:], f[m:]
-            return -np.real(np.conj(v) @ (self._P @ v) + np.conj(q) @ (self._P @ acc))
-
-        def crossing(t0, y0, f0, y1, f1):
-            """u_ref on the cubic Hermite interpolant of u3 over [t0, t0 + dt]."""
-            a0, a1 = u3(y0), u3(y1)
-            sign = np.sign(a1)
-            h0, h1 = a0 * sign, a1 * sign
-            d0, d1 = u3_rate(y0, f0) * sign * dt, u3_rate(y1, f1) * sign * dt
-
-            def U(x):
-                return (
-                    (2 * x**3 - 3 * x**2 + 1) * h0
-                    + (x**3 - 2 * x**2 + x) * d0
-                    + (-2 * x**3 + 3 * x**2) * h1
-                    + (x**3 - x**2) * d1
-                    - u_ref
-                )
-
-            if U(0.0) >= 0.0:  # u3 changed sign within the step: fall back to a line
-                return t0 + (u_ref - abs(a0)) / (abs(a1) - abs(a0)) * dt
-            return t0 + scipy.optimize.brentq(U, 0.0, 1.0, xtol=1e-14) * dt
-
-        every = max(1, n_steps // samples)
-        y = np.zeros(2 * m, dtype=complex)
-        t = 0.0
-        ts, ys = [0.0], [y]
-        t_ref = math.nan
-        c_new = coefficients(t)
-        for n in range(1, n_steps + 1):
-            t_new = n * dt
-            c_old, c_mid, c_new = c_new, coefficients(t + dt / 2), coefficients(t_new)
-            k1 = rhs(y, c_old)
-            k2 = rhs(y + dt / 2 * k1, c_mid)
-            k3 = rhs(y + dt / 2 * k2, c_mid)
-            k4 = rhs(y + dt * k3, c_new)
-            y_old, y = y, y + dt / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
-            reached = abs(u3(y)) >= u_ref
-            if not np.all(np.isfinite(y)):
-                raise RuntimeError(
-                    f"the linear passage blew up at t = {t_new:.6g} s: reduce dt={dt}"
-                )
-            if n % every == 0 or reached:
-                ts.append(t_new)
-                ys.append(y)
-            if reached:
-                t_ref = crossing(t, y_old, k1, y, rhs(y, c_new))
-                break
-            t = t_new
-        ts, ys = np.array(ts), np.array(ys).T
-        return Passage(
-            t=ts,
-            u3=np.array([u3(ys[:, i]) for i in range(ts.size)]),
-            kappa3=kappa0 + a * ts,
-            amplitude=np.sqrt(
-                np.real(np.sum(np.conj(ys[:m]) * (self._M @ ys[:m]), axis=0))
-                / (r.mass_per_length * r.L)
-            ),
-            t_ref=t_ref,
-            kappa3_ref=kappa0 + a * t_ref,
-            u_ref=float(u_ref),
-            params={
-                "a": a,
-                "kappa0": kappa0,
-                "seed": {"magnitude": seed.magnitude, "form": seed.form, "location": seed.location},
-                "waves": waves,
-                "spin": spin,
-                "terms": terms,
-                "modes": self.modes,
-                "quadrature": self.quadrature,
-                "rotary_inertia": self.rotary_inertia,
-                "gyro": self.gyro,
-                "dt": dt,
-            },
-        )
-
-
-# ======================================================================= cached predictions
-#: record kind of a cached linear prediction (its code fingerprint: results.KIND_ROOTS)
-KIND = "linear-onset"
-
-
-@dataclass(frozen=True)
-class Prediction:
-    """The linear prediction of one buckling scene's onset.
-
-    ``scene`` (a :class:`~dyntorsion.sweep.Scene`) gives the rod, the rate, the
-    pretwist and the seed; its grid, scheme and Newton options play no part.  The
-    other fields are the options of :class:`LateralModel` and
-    :meth:`LateralModel.passage`.
-    """
-
-    scene: Scene
-    waves: bool = True
-    spin: bool = True
-    rotary_inertia: bool = True
-    modes: int = 16
-    terms: int = 8
-
-    def model(self) -> LateralModel:
-        return LateralModel(
-            self.scene.rod,
-            modes=self.modes,
-            quadrature=max(128, 4 * self.modes + 16),
-            rotary_inertia=self.rotary_inertia,
-        )
-
-    def __post_init__(self) -> None:
-        sc = self.scene
-        if sc.history is not None or not sc.tension.is_zero or sc.ends.name != "clamped":
-            raise ValueError(
-                "the linear prediction covers the paper's scene (a ramp, clamped ends of eq 30, "
-                f"no axial load); got {sc.label()}"
-            )
-
-    def params(self) -> dict[str, Any]:
-        p = self.scene.params()
-        return {
-            "rod": p["rod"],
-            "a": self.scene.a,
-            "kappa0": self.scene.kappa0,
-            "perturbation": p["perturbation"],
-            "linear": {
-                "waves": self.waves,
-                "spin": self.spin,
-                "rotary_inertia": self.rotary_inertia,
-                "modes": self.modes,
-                "quadrature": self.model().quadrature,
-                "terms": self.terms if self.waves else None,
-            },
-        }
-
-    def label(self) -> str:
-        opts = [k for k in ("waves", "spin", "rotary_inertia") if not getattr(self, k)]
-        return (
-            f"linear a={self.scene.a:.4g} kappa0={self.scene.kappa0:g} "
-            f"seed={self.scene.seed.magnitude:g} modes={self.modes}"
-            + "".join(f" no-{k}" for k in opts)
-        )
-
-
-def run_prediction(pred: Prediction) -> dict[str, Any]:
-    """Integrate one :class:`Prediction`: a JSON-ready dict (t_ref None if not reached)."""
-    sc = pred.scene
-    p = pred.model().passage(
-        sc.a, sc.kappa0, sc.seed, waves=pred.waves, spin=pred.spin, terms=pred.terms
-    )
-    reached = math.isfinite(p.t_ref)
-    return {
-        "t_ref": p.t_ref if reached else None,
-        "kappa3_ref": p.kappa3_ref if reached else None,
-        "u_ref": p.u_ref,
-        "t_last": float(p.t[-1]),
-        "dt": p.params["dt"],
-    }
-
-
-def predict(
-    preds: Sequence[Prediction],
-    store: Store | str | Path | None = None,
-    *,
-    compute: bool = True,
-    jobs: int = 1,
-    on_stale: str = "recompute",
-    log: Callable[[str], None] | None = None,
-) -> pd.DataFrame:
-    """Run (or read back) linear predictions; one row per prediction, in order.
-
-    Cached like the buckling scenes (:func:`~dyntorsion.sweep.cached_map`): read from
-    ``store`` (default :func:`~dyntorsion.sweep.default_store`) when present and fresh,
-    otherwise computed on ``jobs`` processes and written the moment each finishes;
-    ``compute=False`` raises :class:`~dyntorsion.sweep.MissingResultError` for a
-    missing one.
-    """
-    records = cached_map(
-        preds,
-        run_prediction,
-        KIND,
-        store,
-        jobs=jobs,
-        on_stale=on_stale,
-        compute=compute,
-        progress=False,
-        log=log,
-        show="kappa3_ref",
-        command="dyntorsion linear",
-    )
-    rows = []
-    for pred, (rec, _) in zip(preds, records, strict=True):
-        res, sc = rec["result"], pred.scene
-        rows.append(
-            {
-                "a": sc.a,
-                "kappa0": sc.kappa0,
-                "seed": sc.seed.magnitude,
-                "seed_form": sc.seed.form,
-                "location": sc.seed.location,
-                "waves": pred.waves,
-                "spin": pred.spin,
-                "rotary_inertia": pred.rotary_inertia,
-                "modes": pred.modes,
-                "t_ref": np.nan if res["t_ref"] is None else res["t_ref"],
-                "kappa3_ref": np.nan if res["kappa3_ref"] is None else res["kappa3_ref"],
-                "wall_time_s": rec["provenance"].get("wall_time_s"),
-            }
-        )
-    return pd.DataFrame(rows)
-
-
-#: the variants of the linear model compared on the "Why is buckling delayed?" page
-VARIANTS: dict[str, dict[str, Any]] = {
-    "full: waves and spin": {},
-    "no waves (uniform ramp)": {"waves": False},
-    "no spin (twist imposed through the rod)": {"waves": False, "spin": False},
-    "no rotary inertia": {"waves": False, "rotary_inertia": False},
-    "32 modes (no waves)": {"waves": False, "modes": 32},
-}
-
-
-def _from(sweep_preset: str, **options: Any) -> list[Prediction]:
-    return [Prediction(sc, **options) for sc in sweep_preset_scenes(sweep_preset)]
-
-
-def _variants() -> list[Prediction]:
-    rates = IMPERFECTION_RATES
-    return [Prediction(Scene(a=a), **kw) for a in rates for kw in VARIANTS.values()]
-
-
-def _imperfection() -> list[Prediction]:
-    scenes = sweep_preset_scenes("imperfection")
-    return [Prediction(sc, waves=False) for sc in scenes if sc.seed.magnitude > 0]
-
-
-#: name -> function returning the predictions; ``make data`` runs them all
-PRESETS: dict[str, Callable[[], list[Prediction]]] = {
-    "linear-fig10": lambda: _from("fig10"),
-    "linear-fig10-tiny-seed": lambda: _from("fig10-tiny-seed", waves=False),
-    "linear-imperfection": _imperfection,
-    "linear-variants": _variants,
-}
-
-
-def preset(name: str) -> list[Prediction]:
-    """The predictions of a named preset (see :data:`PRESETS`)."""
-    if name not in PRESETS:
-        raise ValueError(f"preset={name!r}; allowed: {', '.join(PRESETS)}")
-    return PRESETS[name]()
-
-
-def cached(name: str, store: Store | str | Path | None = None) -> pd.DataFrame:
-    """A named preset's table read from ``store``, computing nothing."""
-    return predict(preset(name), store, compute=False, on_stale="error")
+        return passage_kernel.run(self, base, seed, t_end / n_steps, n_steps, samples, u_ref)

@@ -55,8 +55,8 @@ KIND_ROOTS: dict[str, tuple[str, ...]] = {
         "dyntorsion.loading",
     ),
     "linear-onset": (
-        "dyntorsion.linear_stability:run_prediction",
-        "dyntorsion.linear_stability:Prediction",
+        "dyntorsion.linear_predictions:run_prediction",
+        "dyntorsion.linear_predictions:Prediction",
         "dyntorsion.sweep:Scene",
         "dyntorsion.loading",
     ),

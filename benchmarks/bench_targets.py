@@ -1,0 +1,121 @@
+"""The speed targets of issue 16, each beside its floor and beside a baseline commit.
+
+    python benchmarks/bench_targets.py [--baseline COMMIT] [--quick]
+
+Every measurement runs twice in this one invocation: with the code of this checkout
+and with the code of ``--baseline`` (default 6fcb9be, the engine before the speed
+work), checked out into a temporary git worktree and run in a subprocess, so both
+see the same machine load.  Medians of repeated runs; nothing is asserted.
+
+* Fig 8 scene (a = 1.6, kappa0 = 0, stated seed) at N = 50, dt = 0.02 s run to
+  t = 18 s, just past its first |u3(L)| peak, so that the onset can be detected
+  (t_c within 0.5 % of the converged value on this grid; floor 50 ms);
+* the 16-rate Fig 10 sweep at the standard grid (N = 100, dt = 0.005 s), one core,
+  nothing cached (floor 2 s);
+* the linear prediction of the Fig 10 scene a = 1.6, with the torsional waves and on
+  the uniform ramp (floor: no slower than the simulated scene);
+* cost per node and step at N = 50 ... 1600 (floor: flat in N).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+MEASURE = r"""
+import json, statistics, sys, time
+sys.path.insert(0, sys.argv[1])
+quick = sys.argv[2] == "1"
+from dyntorsion import buckling as b, sweep as S
+from dyntorsion.linear_stability import LateralModel
+
+def median(f, n):
+    out = []
+    for _ in range(n):
+        t = time.perf_counter(); f(); out.append(time.perf_counter() - t)
+    return statistics.median(out)
+
+b.simulate(a=1.6, n_cells=10, dt=0.05, t_end=0.2)
+res = {}
+fig8 = lambda: b.detect_onset(b.simulate(a=1.6, n_cells=50, dt=0.02, t_end=18.0))
+res["fig8_onset_s"] = median(fig8, 3)
+res["fig8_t_c"] = fig8().t_c
+scenes = S.preset("fig10")
+if quick:
+    scenes = scenes[::4]
+res["fig10_scenes"] = len(scenes)
+res["fig10_sweep_s"] = median(lambda: [S.run_scene(sc) for sc in scenes], 1)
+model = LateralModel()
+model.passage(1.6, 10.0, 1e-8, waves=False, t_end=0.1)
+res["linear_waves_s"] = median(lambda: model.passage(1.6, 10.0, 1e-8, waves=True), 1 if quick else 3)
+res["linear_ramp_s"] = median(lambda: model.passage(1.6, 10.0, 1e-8, waves=False), 3)
+res["sim_fig10_a1.6_s"] = median(
+    lambda: b.simulate(a=1.6, kappa0=10.0, n_cells=100, dt=0.005, t_end=10.0), 1 if quick else 3)
+per = {}
+for n in (50, 200, 800, 1600):
+    run = b.simulate(a=1.6, n_cells=n, dt=0.005, t_end=0.1)
+    per[n] = 1e6 * run.run.wall_time / run.run.steps / (n + 1)
+res["us_per_node_step"] = per
+print(json.dumps(res))
+"""
+
+
+def measure(src: Path, quick: bool) -> dict:
+    out = subprocess.run(
+        [sys.executable, "-c", MEASURE, str(src), "1" if quick else "0"],
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout
+    return json.loads(out.strip().splitlines()[-1])
+
+
+def main() -> None:
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("--baseline", default="6fcb9be", help="commit of the engine to compare with")
+    p.add_argument("--quick", action="store_true", help="a quarter of the Fig 10 rates")
+    args = p.parse_args()
+    start = time.perf_counter()
+    now = measure(ROOT / "src", args.quick)
+    with tempfile.TemporaryDirectory() as tmp:
+        wt = Path(tmp) / "baseline"
+        subprocess.run(
+            ["git", "-C", str(ROOT), "worktree", "add", "--detach", "-q", str(wt), args.baseline],
+            check=True,
+        )
+        try:
+            base = measure(wt / "src", args.quick)
+        finally:
+            subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force", str(wt)])
+    rows = [
+        ("Fig 8 scene to its onset, N=50, dt=0.02 s", "fig8_onset_s", 0.05),
+        (f"Fig 10 sweep, {now['fig10_scenes']} rates, standard grid, 1 core", "fig10_sweep_s",
+         2.0 * now["fig10_scenes"] / 16),
+        ("linear prediction a=1.6 with waves", "linear_waves_s", now["sim_fig10_a1.6_s"]),
+        ("linear prediction a=1.6, uniform ramp", "linear_ramp_s", now["sim_fig10_a1.6_s"]),
+        ("(the simulated Fig 10 scene a=1.6 to 10 s)", "sim_fig10_a1.6_s", None),
+    ]  # fmt: skip
+    print(f"baseline {args.baseline}; medians; {time.perf_counter() - start:.0f} s in all")
+    print(f"{'target':52s} {'floor':>8s} {'now':>9s} {'baseline':>9s} {'ratio':>6s}  met")
+    for label, key, floor in rows:
+        fl = "" if floor is None else f"{floor:.3f}"
+        met = "" if floor is None else ("yes" if now[key] <= floor else "no")
+        print(
+            f"{label:52s} {fl:>8s} {now[key]:9.3f} {base[key]:9.3f} "
+            f"{base[key] / now[key]:6.1f}  {met}"
+        )
+    print(f"Fig 8 t_c: now {now['fig8_t_c']:.4f} s, baseline {base['fig8_t_c']:.4f} s")
+    print("cost per node and step (us), N: now / baseline")
+    for n in now["us_per_node_step"]:
+        print(f"  N={n:>5s}: {now['us_per_node_step'][n]:6.2f} / {base['us_per_node_step'][n]:6.2f}")
+
+
+if __name__ == "__main__":
+    main()
