@@ -350,7 +350,11 @@ class Store:
                 "provenance": provenance(wall_time, kind),
             }
         except ValueError as err:
-            raise ValueError(f"{kind} record not written: {err}") from None
+            try:
+                where = str(self.path(kind, params))
+            except ValueError:
+                where = f"a {kind} record in {self.root}"
+            raise ValueError(f"{where} not written: {err}") from None
         record["hash"] = digest({"kind": kind, "params": params, "result": result})
         target = self.path(kind, params)
         try:
