@@ -221,6 +221,9 @@ def test_sigint_keeps_the_scenes_that_were_running(tmp_path):
     proc = _start_sweep(tmp_path, "16,17", "1.5")
     try:
         assert _wait_for(lambda: len(list(tmp_path.glob("*.lease"))) == 2)
+        assert _wait_for(lambda: len(_children(proc.pid)) >= 2)  # both submitted, workers up
+        time.sleep(0.5)
+        assert not list(tmp_path.glob("buckling-onset-*.json"))  # none finished yet
         proc.send_signal(signal.SIGINT)
         _, err = proc.communicate(timeout=120)
     finally:
@@ -306,6 +309,7 @@ def test_rod_parameters(kw, exc, words):
     "kw, words",
     [
         ({"dt": 0.0}, "dt=0.0"),
+        ({"dt": 1e-320, "t_end": 1e-320}, "dt=1e-320"),
         ({"dt": math.nan}, "dt=nan"),
         ({"dt": -0.01}, "dt=-0.01"),
         ({"t_end": math.inf}, "t_end=inf"),

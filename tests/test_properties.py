@@ -78,7 +78,7 @@ SIM_ARGS = {
     "check_every": st.one_of(st.none(), st.integers(-1, 5), JUNK),
     "snapshots": st.one_of(st.just(()), st.lists(number(0.0, 0.5), max_size=2)),
 }
-SIM_NAMES = ["a=", "kappa0", "n_cells", "dt", "t_end", "magnitude", "check_every", "snapshots"]
+SIM_NAMES = ["a=", "kappa0", "n_cells", "dt", "t_end", "perturbation", "check_every", "snapshots"]
 
 
 def _steps(kw) -> float:

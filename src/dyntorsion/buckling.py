@@ -159,7 +159,7 @@ def check_grid(rod: Rod, n_cells: int, dt: float) -> None:
 def _history(a: float | None, kappa0: float, history: History | None) -> History:
     if history is None:
         if a is None:
-            raise ValueError("give the loading rate a (the paper's ramp) or a history")
+            raise ValueError("a=None: give the loading rate a (the paper's ramp) or a history")
         return Ramp(a=real("a", a, " [1/(m s)]"), kappa0=real("kappa0", kappa0, " [1/m]"))
     if not isinstance(history, History):
         raise TypeError(f"history={history!r} must be a dyntorsion.loading.History")

@@ -127,7 +127,7 @@ class Scene:
             raise TypeError(f"rod={self.rod!r} must be a dyntorsion.Rod")
         if self.history is None:
             if self.a is None:
-                raise ValueError("give the loading rate a (the paper's ramp) or a history")
+                raise ValueError("a=None: give the loading rate a (the paper's ramp) or a history")
             if not real("a", self.a, " [rad/(m s)]") > 0:
                 raise ValueError(f"a={self.a!r} must be a finite loading rate > 0 rad/(m s)")
             kappa0 = 10.0 if self.kappa0 is None else real("kappa0", self.kappa0, " [1/m]")

@@ -58,10 +58,10 @@ MP_BUDGET_S = 60.0
 #: one Gauss-Legendre panel of a Duhamel integral (scaled by digits / 35 above 35)
 MP_TERM_S, MP_PANEL_S = 3e-5, 2.5e-3
 #: the closed forms refuse more travelling images x points than this
-MAX_IMAGES = 50_000_000
+MAX_IMAGES = 2_000_000
 #: the NumPy Duhamel integrals of eq (29) refuse more evaluations than this per time
 #: (and more than 1/100 of it quadrature nodes, which are held in memory)
-MAX_DUHAMEL_WORK = 2e9
+MAX_DUHAMEL_WORK = 2e8
 
 
 # ============================================================================ the model

@@ -22,6 +22,8 @@ __all__ = [
 
 #: a run may allocate at most this fraction of the memory available when it starts
 MEMORY_FRACTION = 0.5
+#: the smallest time step (the step's coefficients scale like 1/dt^2)
+DT_MIN = 1e-15
 
 
 class BudgetError(ValueError):
@@ -51,12 +53,13 @@ def check_time_grid(
     """The number of steps ceil((t_end - t0) / dt), after checking that dt and t_end are
     finite numbers with 0 < dt <= t_end - t0, the snapshot times finite and in
     [t0, t_end], and ``check_every`` None or an integer >= 1."""
-    if not (_real(dt) and math.isfinite(dt) and dt > 0):
-        raise ValueError(f"dt={dt!r} must be a finite number > 0 [s]")
+    if not (_real(dt) and math.isfinite(dt) and dt >= DT_MIN):
+        raise ValueError(f"dt={dt!r} must be a finite number >= {DT_MIN:g} s")
     if not (_real(t0) and math.isfinite(t0)):
         raise ValueError(f"t0={t0!r} must be a finite number [s]")
     if not (_real(t_end) and math.isfinite(t_end) and t_end > t0):
         raise ValueError(f"t_end={t_end!r} must be a finite number > t0={t0!r} [s]")
+    dt, t_end, t0 = float(dt), float(t_end), float(t0)
     if dt > t_end - t0:
         raise ValueError(
             f"dt={dt!r} exceeds the run's length t_end - t0 = {t_end - t0!r}: allowed 0 < dt <= "
