@@ -110,6 +110,24 @@ def test_simulate_honours_the_imposed_twist_or_names_the_parameter(kw):
         assert run.t[-1] >= kw["t_end"] - 1e-12
 
 
+@given(
+    st.fixed_dictionaries(
+        {
+            "a": st.floats(-20.0, 20.0),
+            "kappa0": st.floats(-20.0, 20.0),
+            "n_cells": st.integers(2, 6),
+            "dt": st.floats(0.005, 0.05),
+            "t_end": st.floats(0.05, 0.5),
+            "perturbation": st.floats(0.0, 1e-3),
+            "check_every": st.one_of(st.none(), st.integers(1, 5)),
+            "snapshots": st.lists(st.floats(0.0, 0.05), max_size=2),
+        }
+    )
+)
+def test_simulate_of_plain_inputs_honours_the_imposed_twist(kw):
+    test_simulate_honours_the_imposed_twist_or_names_the_parameter.hypothesis.inner_test(kw)
+
+
 # ----------------------------------------------------------------- exact series
 WAVE = {
     "c": st.floats(1.0, 100.0),

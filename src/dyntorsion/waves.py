@@ -436,7 +436,7 @@ def linear_loading_bound(terms: int, s=None, t=None, *, a: float, c: float, L: f
     if s is None or t is None:
         return uniform
     s, t = np.broadcast_arrays(np.asarray(s, float), np.asarray(t, float))
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
         inv = sum(1.0 / np.abs(np.sin(np.pi * (c * t + sign * s) / (2 * L))) for sign in (1, -1))
         point = 8 * abs(a) * L / (c * math.pi**2 * (2 * terms + 1) ** 2) * inv
     return np.minimum(uniform, np.where(np.isfinite(inv), point, np.inf))
@@ -473,7 +473,7 @@ def linear_loading_exact(
 
     def needed(tol):
         uniform = math.ceil((4 * abs(a) * L / (c * math.pi**2 * tol) + 1) / 2)
-        with np.errstate(divide="ignore"):
+        with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
             inv = (
                 max(
                     float(np.max(1.0 / np.abs(np.sin(np.pi * (c * t + sign * s) / (2 * L)))))
@@ -516,9 +516,10 @@ def instant_release_bound(terms: int, s, t, *, kappa0: float, c: float, L: float
     infinite on the fronts s = +-ct (mod 2L).
     """
     s, t = np.broadcast_arrays(np.asarray(s, float), np.asarray(t, float))
-    with np.errstate(divide="ignore"):
+    with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
         inv = sum(1.0 / np.abs(np.cos(np.pi * (c * t + sign * s) / (2 * L))) for sign in (1, -1))
-    return 4 * abs(kappa0) / (math.pi * (2 * terms + 1)) * inv
+        bound = 4 * abs(kappa0) / (math.pi * (2 * terms + 1)) * inv
+    return np.where(np.isfinite(inv), bound, np.inf)
 
 
 def instant_release_exact(
