@@ -232,7 +232,7 @@ class Scene:
             "n_cells": self.n_cells,
             "dt": self.dt,
             "t_end": self.duration(),
-            "scheme": asdict(self.scheme),
+            "scheme": self.scheme.params(),
             "newton": asdict(self.newton),
             "onset": {
                 "window": list(self.window),
