@@ -71,9 +71,7 @@ class Adaptive:
             gL, gR, qt = self.left.at(tt), self.right.at(tt), self.src.time_factor(tt)
         tt = np.array([ta, tb])
         forcing = Forcing(gL, gR, self.src.q_space, qt, self.src.field_at(tt))
-        rec = Recording(
-            np.zeros(0, np.int64), np.zeros(0, np.int64), _NEVER, 0, np.zeros((0, 0))
-        )
+        rec = Recording(np.zeros(0, np.int64), np.zeros(0, np.int64), _NEVER, 0, np.zeros((0, 0)))
         one = np.zeros((1, 5))
         done, out = march(
             self.system.F, self.system.dF, self._constants(m), self.work, self.fac, self.opts,
