@@ -146,3 +146,32 @@ def test_three_causes_three_messages():
     with pytest.raises(PostBucklingError, match="post-buckling whip") as whip:
         _whip(CONTROL)
     assert not isinstance(whip.value, GridTooCoarseError)
+
+
+# ------------------------------------------------------------------ after the onset
+def test_localisation_width():
+    from dyntorsion.postbuckling import localisation_width
+
+    s = np.linspace(0.0, 2.0, 201)
+    assert localisation_width(s, np.ones_like(s)) == pytest.approx(0.5, abs=0.01)
+    narrow = np.exp(-(((s - 0.7) / 0.01) ** 2))
+    wide = np.exp(-(((s - 0.7) / 0.1) ** 2))
+    assert localisation_width(s, narrow) < 0.2 * localisation_width(s, wide)
+    # half the mass of a Gaussian lies within +-0.477 sigma*sqrt(2): width 0.954 * 0.1 / L
+    assert localisation_width(s, wide) == pytest.approx(0.0954 / 2.0, abs=0.01)
+    with pytest.raises(ValueError, match="share"):
+        localisation_width(s, wide, share=1.0)
+
+
+def test_contact_measures_of_a_run_to_contact():
+    from dyntorsion.postbuckling import contact_measures
+
+    run = simulate_scene(Scene(a=16.0, kappa0=10.0, n_cells=100, dt=0.005, scheme=CONTROL))
+    m = contact_measures(run)
+    assert m.t_contact == run.run.t_final and m.time_to_contact == m.t_contact - m.t_c > 0
+    assert m.twist == pytest.approx(10.0 + 16.0 * m.t_contact)
+    assert m.max_curvature > 2 * np.pi / run.rod.L  # looped, far from the straight rod
+    assert 0 < m.width < 0.5
+    fixed = simulate_scene(Scene(a=16.0, kappa0=10.0, n_cells=100, dt=0.005))
+    with pytest.raises(ValueError, match="self-contact"):
+        contact_measures(fixed)

@@ -16,12 +16,26 @@ own message:
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from .genalpha import ConvergenceError
 from .rod import Rod
 
-__all__ = ["GridTooCoarseError", "PostBucklingError", "FIRST_STEPS", "diagnose"]
+if TYPE_CHECKING:
+    from .buckling import BucklingRun
+
+__all__ = [
+    "GridTooCoarseError",
+    "PostBucklingError",
+    "FIRST_STEPS",
+    "diagnose",
+    "ContactMeasures",
+    "contact_measures",
+    "localisation_width",
+]
 
 #: a failure within this many steps of the start is blamed on the time step
 FIRST_STEPS = 10
@@ -73,3 +87,60 @@ def diagnose(
             f"dyntorsion.fidelity.get('buckling', level, rod): {err.reason}",
         )
     return err
+
+
+# ================================================================= measures at contact
+@dataclass(frozen=True)
+class ContactMeasures:
+    """The buckled rod at self-contact (the paper has none of these).
+
+    ``time_to_contact`` = t_contact - t_c (t_c of :func:`~dyntorsion.buckling.detect_onset`),
+    ``twist`` the end twist kappa3(0, t_contact), ``max_curvature`` the largest bending
+    curvature sqrt(k1^2 + k2^2) along the rod, ``width`` the :func:`localisation_width`
+    of the bending energy (as a fraction of L).
+    """
+
+    t_contact: float
+    t_c: float
+    time_to_contact: float
+    twist: float
+    max_curvature: float
+    width: float
+
+
+def localisation_width(s: np.ndarray, density: np.ndarray, share: float = 0.5) -> float:
+    """The smallest total length of cells holding ``share`` of the integral of ``density``
+    (node values on the grid s, cell values by the trapezoidal rule), over the length:
+    1/2 for a uniform density, -> 0 as it localises."""
+    if not 0 < share < 1:
+        raise ValueError(f"share={share!r} must lie in (0, 1)")
+    s, e = np.asarray(s, float), np.asarray(density, float)
+    ds = np.diff(s)
+    cell = 0.5 * (e[1:] + e[:-1]) * ds
+    total = cell.sum()
+    if not total > 0:
+        raise ValueError("the density is zero everywhere: nothing to localise")
+    order = np.argsort(cell / ds)[::-1]
+    k = int(np.searchsorted(np.cumsum(cell[order]), share * total))
+    return float(ds[order[: k + 1]].sum() / (s[-1] - s[0]))
+
+
+def contact_measures(run: BucklingRun) -> ContactMeasures:
+    """:class:`ContactMeasures` of a buckling run that ended at self-contact."""
+    from .buckling import detect_onset
+
+    if not run.stopped.startswith("self-contact"):
+        raise ValueError(f"the run did not end at self-contact: {run.stopped[:120]}")
+    y, names = run.run.y, run.run.names
+    k1, k2 = y[:, names.index("k1")], y[:, names.index("k2")]
+    energy = 0.5 * (run.rod.B1 * k1**2 + run.rod.B2 * k2**2)
+    t_contact = float(run.run.t_final)
+    t_c = detect_onset(run).t_c
+    return ContactMeasures(
+        t_contact=t_contact,
+        t_c=t_c,
+        time_to_contact=t_contact - t_c,
+        twist=float(run.end_twist(t_contact)),
+        max_curvature=float(np.max(np.hypot(k1, k2))),
+        width=localisation_width(run.run.s, energy),
+    )
