@@ -8,7 +8,7 @@ from dyntorsion import genalpha as ga
 from dyntorsion.loading import Ends, IllPosedEndsError
 from dyntorsion.postbuckling import GridTooCoarseError, PostBucklingError
 from dyntorsion.sweep import Scene, simulate_scene
-from dyntorsion.verification import Manufactured
+from dyntorsion.verification import Manufactured, observed_orders
 
 CONTROL = ga.Scheme(control=ga.StepControl())
 
@@ -175,3 +175,28 @@ def test_contact_measures_of_a_run_to_contact():
     fixed = simulate_scene(Scene(a=16.0, kappa0=10.0, n_cells=100, dt=0.005))
     with pytest.raises(ValueError, match="self-contact"):
         contact_measures(fixed)
+
+
+@pytest.mark.parametrize("quadrature", ["trapezoidal", "midpoint"])
+def test_energy_balance_closes_at_second_order_before_the_onset(quadrature):
+    """E - E0 - W (work of the end twist and the seed) along the prebuckling run: a small
+    fraction of the work done, falling as dt^2 with both load quadratures."""
+    from dyntorsion.postbuckling import energy_balance
+
+    defects = []
+    for dt in (0.01, 0.005, 0.0025):
+        run = buckling.simulate(
+            a=16.0,
+            kappa0=10.0,
+            n_cells=50,
+            dt=dt,
+            t_end=1.0,
+            snapshots=np.arange(0.0, 1.0 + dt / 2, dt),
+            scheme=ga.Scheme(quadrature=quadrature),
+            progress=False,
+        )
+        eb = energy_balance(run)
+        assert eb.W[-1] > 0 and eb.t.size == run.t.size
+        assert np.max(np.abs(eb.defect)) < 1e-4 * eb.W[-1]
+        defects.append(np.max(np.abs(eb.defect)))
+    assert observed_orders([0.01, 0.005, 0.0025], defects) == pytest.approx([2.0, 2.0], abs=0.1)

@@ -35,6 +35,8 @@ __all__ = [
     "ContactMeasures",
     "contact_measures",
     "localisation_width",
+    "EnergyBalance",
+    "energy_balance",
 ]
 
 #: a failure within this many steps of the start is blamed on the time step
@@ -144,3 +146,58 @@ def contact_measures(run: BucklingRun) -> ContactMeasures:
         max_curvature=float(np.max(np.hypot(k1, k2))),
         width=localisation_width(run.run.s, energy),
     )
+
+
+# ================================================================= energy
+@dataclass(frozen=True)
+class EnergyBalance:
+    """E(t) - E(0) - W(t) along a run: the engine's own check of the violent phase.
+
+    E is the kinetic and elastic energy of :meth:`~dyntorsion.model.Cosserat.energy_density`
+    (trapezoidal rule in s); W the work of the ends and of the seed force,
+    W(t) = int_0^t ([u.n + w.m]_0^L + int f.u ds) dt (trapezoidal rule in t), which is
+    dE/dt of eq (6) with m = diag(B1, B2, C) k (every other term does no work).
+    """
+
+    t: np.ndarray
+    E: np.ndarray
+    W: np.ndarray
+
+    @property
+    def defect(self) -> np.ndarray:
+        """E - E(0) - W."""
+        return self.E - self.E[0] - self.W
+
+
+def energy_balance(run: BucklingRun) -> EnergyBalance:
+    """:class:`EnergyBalance` of a buckling run that kept a snapshot at every level
+    (``simulate(..., snapshots=...)`` with the run's time levels)."""
+    from .model import Cosserat
+
+    snaps, t = run.run.snapshots, run.run.snapshot_times
+    if t.size < 2:
+        raise ValueError("energy_balance needs snapshots at (at least two) time levels")
+    model = Cosserat(
+        run.rod, terms=dict(run.params.get("terms", {})),
+        rotary_inertia_scale=run.params.get("rotary_inertia_scale", 1.0),
+    )  # fmt: skip
+    from .buckling import Perturbation
+
+    seed = Perturbation(**{**run.params["perturbation"]})
+    s = run.run.s
+    f = seed.force(s, run.rod.L)
+    stiff = np.array([run.rod.B1, run.rod.B2, run.rod.C])
+    E = np.trapezoid(model.energy_density(snaps), s, axis=1)
+
+    def end_power(y):
+        return np.sum(y[..., 0:3] * y[..., 9:12], axis=-1) + np.sum(
+            y[..., 3:6] * stiff * y[..., 6:9], axis=-1
+        )
+
+    power = (
+        end_power(snaps[:, -1])
+        - end_power(snaps[:, 0])
+        + np.trapezoid(np.sum(f * snaps[..., 0:3], axis=-1), s, axis=1)
+    )
+    W = np.concatenate([[0.0], np.cumsum(0.5 * np.diff(t) * (power[1:] + power[:-1]))])
+    return EnergyBalance(t=t, E=E, W=W)
