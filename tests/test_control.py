@@ -200,3 +200,16 @@ def test_energy_balance_closes_at_second_order_before_the_onset(quadrature):
         assert np.max(np.abs(eb.defect)) < 1e-4 * eb.W[-1]
         defects.append(np.max(np.abs(eb.defect)))
     assert observed_orders([0.01, 0.005, 0.0025], defects) == pytest.approx([2.0, 2.0], abs=0.1)
+
+
+def test_run_scene_records_what_the_controller_did():
+    from dyntorsion.sweep import run_scene
+
+    coarse = dict(a=16.0, kappa0=10.0, n_cells=50, dt=0.01)
+    fixed = run_scene(Scene(**coarse))
+    ctl = run_scene(Scene(**coarse, scheme=CONTROL))
+    assert "control" not in fixed  # fixed-step records keep their fields
+    c = ctl["control"]
+    assert c["rejected"] >= 10 and c["accepted"] > ctl["steps"]
+    assert c["smallest_dt"] < 0.01 / 8 and "dt_min" in ctl["stopped"]
+    assert ctl["t_c"] == fixed["t_c"]  # the onset comes before the first rejection
