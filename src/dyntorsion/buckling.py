@@ -210,7 +210,8 @@ def simulate(
     The run ends at ``t_end`` or, with ``stop_at_contact``, at the first check
     (every ``check_every`` steps, default about every 0.1 s of simulated time, or every
     step with step-size control: between checks 0.1 s apart the whipping rod can pass
-    through itself unseen)
+    through itself unseen; checked every step, a pair of segments that crossed between two
+    levels counts as contact too)
     at which two non-neighbouring parts of the centreline come closer than the
     rod's thickness; ``result.stopped`` says which ("t_end" or "self-contact ...").
 
@@ -249,20 +250,31 @@ def simulate(
     q = model.external_force(perturbation.force(s, rod.L))
 
     i_k1, i_k2 = system.index("k1"), system.index("k2")
+    if check_every is None:
+        check_every = 1 if scheme.control is not None else max(1, int(round(0.1 / dt)))
+    previous: list[np.ndarray] = []  # the last centreline checked (every level: crossings)
 
     def contact(t, y):
         # a centreline whose tangent turns by less than pi/3 in all keeps points an arc
         # length l apart at least l cos(pi/6) > l/2 apart: no contact (min_arc = 2 d)
         if np.sum(np.hypot(y[:, i_k1], y[:, i_k2])) * ds < np.pi / 3:
+            previous.clear()
             return None
-        hit = shapes.self_contact(shapes.shape(y, ds), rod.thickness)
-        if hit is None:
-            return None
-        d, i, j = hit
-        return f"self-contact at t = {t:.6g} s (segments {i} and {j}, distance {d:.3g} m)"
+        r = shapes.shape(y, ds)
+        hit = shapes.self_contact(r, rod.thickness)
+        if hit is not None:
+            d, i, j = hit
+            return f"self-contact at t = {t:.6g} s (segments {i} and {j}, distance {d:.3g} m)"
+        crossed = shapes.crossing(previous[0], r, rod.thickness) if previous else None
+        previous[:] = [r] if check_every == 1 else []
+        if crossed is not None:
+            i, j = crossed
+            return (
+                f"self-contact at t = {t:.6g} s (segments {i} and {j} passed through each "
+                "other since the previous level)"
+            )
+        return None
 
-    if check_every is None:
-        check_every = 1 if scheme.control is not None else max(1, int(round(0.1 / dt)))
     try:
         run = integrate(
             system,
