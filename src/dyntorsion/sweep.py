@@ -232,7 +232,7 @@ class Scene:
             "n_cells": self.n_cells,
             "dt": self.dt,
             "t_end": self.duration(),
-            "scheme": asdict(self.scheme),
+            "scheme": self.scheme.params(),
             "newton": asdict(self.newton),
             "onset": {
                 "window": list(self.window),
@@ -309,6 +309,8 @@ def run_scene(scene: Scene) -> dict[str, Any]:
         "t_last": float(run.t[-1]),
         "u3_peak": float(np.max(np.abs(run.u3_end))),
     }
+    if scene.scheme.control is not None:
+        out["control"] = run.run.meta["control"]
     try:
         onset = detect_onset(run, window=scene.window, variations=scene.variations)
     except ValueError as err:
