@@ -20,7 +20,7 @@ import multiprocessing
 import os
 import time
 from collections.abc import Callable, Iterable, Mapping, Sequence
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -28,7 +28,7 @@ import numpy as np
 import pandas as pd
 
 from .buckling import BucklingRun, Perturbation, _load, detect_onset, simulate
-from .genalpha import Newton, Scheme
+from .genalpha import Newton, Scheme, StepControl
 from .loading import ENDS, AxialLoad, Ends, History, Ramp, ends_from_params, history_from_params
 from .loading import ends as _ends
 from .model import Cosserat
@@ -633,8 +633,17 @@ def cached(name: str, store: Store | str | Path | None = None) -> pd.DataFrame:
     return run_sweep(preset(name), store, compute=False, on_stale="error", progress=False)
 
 
+#: the step-size control every preset runs with (issue 15): identical to fixed steps
+#: until the first rejected step, so the onsets do not move, and the runs go on past the
+#: post-buckling whip to self-contact or t_end instead of stopping on a Newton failure
+PRESET_CONTROL = StepControl()
+
+
 def preset(name: str) -> list[Scene]:
-    """The scenes of a named sweep (see :data:`PRESETS`)."""
+    """The scenes of a named sweep (see :data:`PRESETS`), each with the step-size
+    control :data:`PRESET_CONTROL`."""
     if name not in PRESETS:
         raise ValueError(f"preset={name!r}; allowed: {', '.join(PRESETS)}")
-    return PRESETS[name]()
+    return [
+        replace(sc, scheme=replace(sc.scheme, control=PRESET_CONTROL)) for sc in PRESETS[name]()
+    ]
