@@ -114,3 +114,22 @@ def test_self_contact_finds_a_crossing_and_ignores_neighbours():
     hit = shapes.self_contact(loop, 1e-3)
     assert hit is not None and hit[0] < 1e-3
     assert {hit[1], hit[2]} & {0, 99}
+
+
+def test_crossing_between_two_states():
+    """Two strands of one centreline, 0.2 apart in arc length, swap sides between the
+    states: a crossing; moving closer without swapping, or a rigid rotation, is none."""
+    from dyntorsion.shapes import crossing
+
+    def rod(z):
+        x = np.linspace(-0.5, 0.5, 21)
+        a = np.stack([x, 0 * x, 0 * x], 1)
+        th = np.linspace(0, np.pi, 21)
+        loop = np.stack([0.5 + 0.2 * np.sin(th), 0.2 * (1 - np.cos(th)), z * th / np.pi], 1)
+        b = np.stack([0 * x, np.linspace(0.4, -0.5, 21), 0 * x + z], 1)
+        return np.concatenate([a, loop[1:], b[1:]])
+
+    turn = np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])
+    assert crossing(rod(0.01), rod(-0.01), 0.001) is not None
+    assert crossing(rod(0.01), rod(0.002), 0.001) is None
+    assert crossing(rod(0.01), rod(0.01) @ turn.T, 0.001) is None

@@ -20,6 +20,7 @@ from .genalpha.guard import check_time_grid, real
 from .loading import AxialLoad, Ends, History, Ramp
 from .loading import ends as _ends
 from .model import Cosserat
+from .postbuckling import diagnose
 from .rod import Rod
 from .statics import (
     M_CRI_MP,
@@ -208,12 +209,17 @@ def simulate(
     and the run stays straight to round-off.
 
     The run ends at ``t_end`` or, with ``stop_at_contact``, at the first check
-    (every ``check_every`` steps, default about every 0.1 s of simulated time)
+    (every ``check_every`` steps, default about every 0.1 s of simulated time, or every
+    step with step-size control: between checks 0.1 s apart the whipping rod can pass
+    through itself unseen; checked every step, a pair of segments that crossed between two
+    levels counts as contact too)
     at which two non-neighbouring parts of the centreline come closer than the
     rod's thickness; ``result.stopped`` says which ("t_end" or "self-contact ...").
 
     Past the onset the rod whips round violently; a Newton failure there raises
-    :class:`~dyntorsion.genalpha.ConvergenceError` (``on_failure="raise"``), or, with
+    :class:`~dyntorsion.postbuckling.PostBucklingError`, one in the first steps
+    :class:`~dyntorsion.postbuckling.GridTooCoarseError` (both are
+    :class:`~dyntorsion.genalpha.ConvergenceError`; ``on_failure="raise"``), or, with
     ``on_failure="return"``, ends the run at the last completed step with
     ``stopped = "failed: ..."`` (the traces up to it are what the onset needs).
 
@@ -247,15 +253,32 @@ def simulate(
     left, right = end_set.rows(system, hist, load)
     q = model.external_force(perturbation.force(s, rod.L))
 
-    def contact(t, y):
-        hit = shapes.self_contact(shapes.shape(y, ds), rod.thickness)
-        if hit is None:
-            return None
-        d, i, j = hit
-        return f"self-contact at t = {t:.6g} s (segments {i} and {j}, distance {d:.3g} m)"
-
+    i_k1, i_k2 = system.index("k1"), system.index("k2")
     if check_every is None:
-        check_every = max(1, int(round(0.1 / dt)))
+        check_every = 1 if scheme.control is not None else max(1, int(round(0.1 / dt)))
+    previous: list[np.ndarray] = []  # the last centreline checked (every level: crossings)
+
+    def contact(t, y):
+        # a centreline whose tangent turns by less than pi/3 in all keeps points an arc
+        # length l apart at least l cos(pi/6) > l/2 apart: no contact (min_arc = 2 d)
+        if np.sum(np.hypot(y[:, i_k1], y[:, i_k2])) * ds < np.pi / 3:
+            previous.clear()
+            return None
+        r = shapes.shape(y, ds)
+        hit = shapes.self_contact(r, rod.thickness)
+        if hit is not None:
+            d, i, j = hit
+            return f"self-contact at t = {t:.6g} s (segments {i} and {j}, distance {d:.3g} m)"
+        crossed = shapes.crossing(previous[0], r, rod.thickness) if previous else None
+        previous[:] = [r] if check_every == 1 else []
+        if crossed is not None:
+            i, j = crossed
+            return (
+                f"self-contact at t = {t:.6g} s (segments {i} and {j} passed through each "
+                "other since the previous level)"
+            )
+        return None
+
     try:
         run = integrate(
             system,
@@ -281,10 +304,14 @@ def simulate(
             check_every=check_every,
             progress=progress,
         )
-    except ConvergenceError as err:
+    except ConvergenceError as raw:
+        u3 = raw.run["u3_end"] if raw.run is not None else np.zeros(0)
+        t_run = raw.run.t if raw.run is not None else np.zeros(0)
+        err = diagnose(raw, rod, n_cells, dt, u3, t_run)
         if on_failure == "raise" or err.run is None:
-            raise
+            raise err from None
         run = err.run
+        run.stopped = f"failed: {err}"
     t = run.t
     w0 = run["w3_left"]
     theta = np.concatenate([[0.0], np.cumsum(0.5 * np.diff(t) * (w0[1:] + w0[:-1]))])

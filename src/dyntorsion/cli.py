@@ -224,7 +224,7 @@ def _sweep_scenes(args: argparse.Namespace) -> list[Scene]:
     if args.preset:
         if args.rates:
             raise SystemExit("give either --preset or --rates, not both")
-        return [sc for name in args.preset for sc in PRESETS[name]()]
+        return [sc for name in args.preset for sc in preset(name)]
     if not args.rates:
         raise SystemExit("give --rates (e.g. 0.1,0.4,1.6 or geom:0.05:16:12) or --preset")
     return [_scene(args, a) for a in _rates(args.rates)]

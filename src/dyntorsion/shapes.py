@@ -146,3 +146,58 @@ def self_contact(r: np.ndarray, diameter: float, min_arc: float | None = None):
     d = _segment_distances(r[i], r[i + 1], r[j], r[j + 1])
     m = int(np.argmin(d))
     return (float(d[m]), int(i[m]), int(j[m])) if d[m] < diameter else None
+
+
+def crossing(r_old: np.ndarray, r_new: np.ndarray, diameter: float, min_arc: float | None = None):
+    """(i, j) of a pair of segments of the centreline that passed through each other
+    between two states r_old, r_new (same nodes), or None.
+
+    Contact checked only at time levels misses segments that cross within one step.
+    A pair counts as crossed when, in both states, it is not neighbouring (arc-length
+    separation above ``min_arc``, default 2 diameters), the segments make an angle of
+    more than 30 degrees, the closest points of their lines lie on both segments, and
+    those lines are closer than a segment length -- and the signed distance of the
+    lines along d_i x d_j changes sign.  Every quantity is taken within one state, so a
+    rigid motion of the whole rod between the states does not matter."""
+
+    def lines(r):
+        r = np.asarray(r, dtype=float)
+        n = r.shape[0] - 1
+        d = np.diff(r, axis=0)
+        seg = np.linalg.norm(d, axis=1)
+        arc = np.concatenate([[0.0], np.cumsum(seg)])
+        return r, n, d, seg, arc
+
+    r0, n, d0, seg0, arc0 = lines(r_old)
+    r1, _, d1, seg1, _ = lines(r_new)
+    min_arc = 2 * diameter if min_arc is None else min_arc
+    i, j = np.triu_indices(n, k=2)
+    keep = arc0[j] - arc0[i + 1] > min_arc
+    i, j = i[keep], j[keep]
+    m1 = 0.5 * (r1[1:] + r1[:-1])
+    near = np.linalg.norm(m1[i] - m1[j], axis=1) < 2 * (seg1[i] + seg1[j]) + diameter
+    i, j = i[near], j[near]
+    if i.size == 0:
+        return None
+    signs = []
+    for r, d, seg in ((r0, d0, seg0), (r1, d1, seg1)):
+        p, q = d[i], d[j]
+        cr = np.cross(p, q)
+        norm = np.linalg.norm(cr, axis=1)
+        ok = norm > 0.5 * seg[i] * seg[j]  # angle above 30 degrees
+        nrm = cr / np.where(ok, norm, 1.0)[:, None]
+        w = r[j] - r[i]
+        dist = np.einsum("ij,ij->i", w, nrm)
+        # closest points of the two lines: r_i + s p = r_j + t q (+ dist n)
+        a, b, e = (np.einsum("ij,ij->i", x, y) for x, y in ((p, p), (p, q), (q, q)))
+        c, f = np.einsum("ij,ij->i", p, w), np.einsum("ij,ij->i", q, w)
+        den = np.where(ok, a * e - b * b, 1.0)
+        s = (c * e - b * f) / den
+        t = (b * c - a * f) / den
+        inside = ok & (s >= 0) & (s <= 1) & (t >= 0) & (t <= 1)
+        signs.append((np.sign(dist), inside & (np.abs(dist) < np.minimum(seg[i], seg[j]))))
+    hit = signs[0][1] & signs[1][1] & (signs[0][0] * signs[1][0] < 0)
+    if not np.any(hit):
+        return None
+    k = int(np.argmax(hit))
+    return int(i[k]), int(j[k])

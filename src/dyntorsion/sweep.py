@@ -18,7 +18,7 @@ import concurrent.futures as cf
 import math
 import os
 from collections.abc import Callable, Iterable, Mapping, Sequence
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -34,7 +34,7 @@ from .buckling import (
     detect_onset,
     simulate,
 )
-from .genalpha import Newton, Scheme
+from .genalpha import Newton, Scheme, StepControl
 from .genalpha.guard import check_time_grid, real
 from .loading import ENDS, AxialLoad, Ends, History, Ramp, ends_from_params, history_from_params
 from .loading import ends as _ends
@@ -242,7 +242,7 @@ class Scene:
             "n_cells": self.n_cells,
             "dt": self.dt,
             "t_end": self.duration(),
-            "scheme": asdict(self.scheme),
+            "scheme": self.scheme.params(),
             "newton": asdict(self.newton),
             "onset": {
                 "window": list(self.window),
@@ -327,6 +327,8 @@ def run_scene(scene: Scene) -> dict[str, Any]:
         "u3_peak": float(np.max(np.abs(run.u3_end))),
         "kappa_cri": kc,
     }
+    if scene.scheme.control is not None:
+        out["control"] = run.run.meta["control"]
     try:
         onset = detect_onset(run, window=scene.window, variations=scene.variations)
     except ValueError as err:
@@ -570,8 +572,17 @@ def cached(name: str, store: Store | str | Path | None = None) -> pd.DataFrame:
     return run_sweep(preset(name), store, compute=False, on_stale="error", progress=False)
 
 
+#: the step-size control every preset runs with (issue 15): identical to fixed steps
+#: until the first rejected step, so the onsets do not move, and the runs go on past the
+#: post-buckling whip to self-contact or t_end instead of stopping on a Newton failure
+PRESET_CONTROL = StepControl()
+
+
 def preset(name: str) -> list[Scene]:
-    """The scenes of a named sweep (see :data:`PRESETS`)."""
+    """The scenes of a named sweep (see :data:`PRESETS`), each with the step-size
+    control :data:`PRESET_CONTROL`."""
     if name not in PRESETS:
         raise ValueError(f"preset={name!r}; allowed: {', '.join(PRESETS)}")
-    return PRESETS[name]()
+    return [
+        replace(sc, scheme=replace(sc.scheme, control=PRESET_CONTROL)) for sc in PRESETS[name]()
+    ]

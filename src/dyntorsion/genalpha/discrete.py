@@ -28,7 +28,7 @@ from .._numba import A1, A2, A3, I1, jit, named
 from .scheme import Coefficients, Scheme
 from .system import Boundary, System
 
-__all__ = ["Constants", "Work", "setup"]
+__all__ = ["Constants", "Work", "constants", "setup"]
 
 
 class Constants(NamedTuple):
@@ -91,29 +91,10 @@ def setup(
 ) -> tuple[Constants, Work, _abd.Factors]:
     """Constants, work arrays and LU storage of the compiled kernels."""
     nf = system.nf
-    ys, rs = np.asarray(system.yscale, float), np.asarray(system.rscale, float)
-    BLr, BRr = np.ascontiguousarray(left.rows, float), np.ascontiguousarray(right.rows, float)
-    blsc = np.abs(BLr) @ ys
-    brsc = np.abs(BRr) @ ys
-    if np.any(blsc == 0) or np.any(brsc == 0):
-        raise ValueError("a boundary row is all zeros")
-    co = scheme.coefficients(ds, dt)
-    P = np.ascontiguousarray(co.c_M * (1 - co.a_s) * system.M + (1 - co.b_t) / ds * system.K)
-    Q = np.ascontiguousarray(co.c_M * co.a_s * system.M - (1 - co.b_t) / ds * system.K)
-    con = Constants(
-        params=np.ascontiguousarray(system.params, float),
-        M=np.ascontiguousarray(system.M, float),
-        K=np.ascontiguousarray(system.K, float),
-        P=P,
-        Q=Q,
-        co=co,
-        yscale=ys,
-        rscale=rs,
-        left_rows=BLr,
-        left_scale=blsc,
-        right_rows=BRr,
-        right_scale=brsc,
-    )
+    ys = np.asarray(system.yscale, float)
+    con = constants(system, scheme, ds, dt, left, right)
+    BLr, BRr, blsc, brsc = con.left_rows, con.right_rows, con.left_scale, con.right_scale
+    co = con.co
     N1 = n_cells + 1
     nq = N1 if co.trapezoidal else n_cells
     work = Work(
@@ -139,6 +120,35 @@ def setup(
         factored=np.zeros(1, dtype=np.int64),
     )
     return con, work, _abd.allocate(n_cells, nf, left.nb)
+
+
+def constants(
+    system: System, scheme: Scheme, ds: float, dt: float, left: Boundary, right: Boundary
+) -> Constants:
+    """The :class:`Constants` of steps of length dt on cells of length ds."""
+    ys, rs = np.asarray(system.yscale, float), np.asarray(system.rscale, float)
+    BLr, BRr = np.ascontiguousarray(left.rows, float), np.ascontiguousarray(right.rows, float)
+    blsc = np.abs(BLr) @ ys
+    brsc = np.abs(BRr) @ ys
+    if np.any(blsc == 0) or np.any(brsc == 0):
+        raise ValueError("a boundary row is all zeros")
+    co = scheme.coefficients(ds, dt)
+    P = np.ascontiguousarray(co.c_M * (1 - co.a_s) * system.M + (1 - co.b_t) / ds * system.K)
+    Q = np.ascontiguousarray(co.c_M * co.a_s * system.M - (1 - co.b_t) / ds * system.K)
+    return Constants(
+        params=np.ascontiguousarray(system.params, float),
+        M=np.ascontiguousarray(system.M, float),
+        K=np.ascontiguousarray(system.K, float),
+        P=P,
+        Q=Q,
+        co=co,
+        yscale=ys,
+        rscale=rs,
+        left_rows=BLr,
+        left_scale=blsc,
+        right_rows=BRr,
+        right_scale=brsc,
+    )
 
 
 @jit

@@ -11,6 +11,7 @@ from typing import Any
 
 import numpy as np
 
+from .control import Adaptive
 from .discrete import setup
 from .guard import check_memory, check_time_grid
 from .initial import consistent_rates
@@ -43,6 +44,10 @@ class Run:
         The state and its time derivative at the last completed level.
     stopped
         Why the run ended (``"t_end"`` or the reason returned by ``stop``).
+    substeps, rejections
+        With step-size control (``scheme.control``): the steps accepted on each
+        interval (t_i, t_{i+1}) of the fixed grid, and every rejected step as
+        (t_start, dt, reason, iterations, residual).  Without: ones and [].
     """
 
     s: np.ndarray
@@ -63,6 +68,8 @@ class Run:
     stopped: str
     names: tuple[str, ...]
     meta: dict[str, Any] = field(default_factory=dict)
+    substeps: np.ndarray | None = None
+    rejections: list[tuple[float, float, str, int, float]] = field(default_factory=list)
 
     def __getitem__(self, name: str) -> np.ndarray:
         return self.traces[name]
@@ -234,6 +241,9 @@ def integrate(
     source_field : callable (s, t) -> (N+1, nf) for a general source.
     record : name -> (field, node) recorded every ``record_every`` steps.
     snapshots : times at which the whole state is kept (nearest time level).
+    scheme : with ``scheme.control`` (a :class:`StepControl`) a step whose Newton solve
+        fails is retried with half the step (:mod:`.control`); the fixed grid of dt
+        is kept and every recorded level lies on it.
     stop : callable (t, y) -> reason or None, checked every ``check_every`` steps.
     progress : show a progress bar (None: only for long runs on a terminal).
     """
@@ -256,6 +266,10 @@ def integrate(
     rec_t, rec_vals = [t0], [y0[plan.nodes, plan.fields].copy()]
     snap_t, snap_y = ([t0], [y0.copy()]) if 0 in plan.snap_steps else ([], [])
     stats = np.zeros((n_steps, 5))
+    adaptive = None
+    if scheme.control is not None:
+        ctx = (con, work, fac, opts, times, gL, gR, q_time)
+        adaptive = Adaptive(scheme.control, system, scheme, ds, dt, left, right, src, ctx)
     stopped, failure, done = "t_end", None, 0
     if progress is None:
         progress = n_steps * n1 * nf > 5e7
@@ -276,25 +290,30 @@ def integrate(
                 k0,
                 np.zeros((rec_steps.size, len(plan.fields))),
             )
-            forcing = Forcing(
-                gL[chunk], gR[chunk], src.q_space, q_time[chunk], src.field_at(times[chunk])
-            )
-            completed, outcome = march(
-                system.F, system.dF, con, work, fac, opts, forcing, rec, stats[k0:k1]
-            )
+            failure = None
+            if adaptive is None:
+                forcing = Forcing(
+                    gL[chunk], gR[chunk], src.q_space, q_time[chunk], src.field_at(times[chunk])
+                )
+                completed, outcome = march(
+                    system.F, system.dF, con, work, fac, opts, forcing, rec, stats[k0:k1]
+                )
+                if completed < k1 - k0:
+                    failure = ConvergenceError(
+                        float(times[k0 + completed + 1]),
+                        k0 + completed + 1,
+                        outcome.corrections,
+                        outcome.residual,
+                        REASONS.get(Status(outcome.status), "unknown")
+                        + " (also after a retry from the other predictor with a fresh Jacobian)",
+                    )
+            else:
+                completed, failure = adaptive.chunk(k0, k1, rec, stats[k0:k1])
             done = k0 + completed
             kept = rec_steps <= done
             rec_t.extend(t0 + dt * rec_steps[kept])
             rec_vals.extend(rec.out[kept])
-            if completed < k1 - k0:
-                failure = ConvergenceError(
-                    float(times[done + 1]),
-                    done + 1,
-                    outcome.corrections,
-                    outcome.residual,
-                    REASONS.get(Status(outcome.status), "unknown")
-                    + " (also after a retry from the other predictor with a fresh Jacobian)",
-                )
+            if failure is not None:
                 stopped = f"failed: {failure}"
                 break
             if bar is not None:
@@ -330,17 +349,16 @@ def integrate(
         wall_time=time.perf_counter() - t_start,
         stopped=stopped,
         names=system.names,
+        substeps=np.ones(done, np.int64) if adaptive is None else adaptive.substeps[:done].copy(),
+        rejections=[] if adaptive is None else list(adaptive.rejections),
         meta={
             "n_cells": n_cells,
             "length": length,
             "dt": dt,
             "t0": t0,
             "t_end": t_end,
-            "scheme": {
-                "lam_s": scheme.lam_s,
-                "lam_t": scheme.lam_t,
-                "quadrature": scheme.quadrature,
-            },
+            "scheme": scheme.params(),
+            **({} if adaptive is None else {"control": adaptive.summary(done)}),
             "newton": newton.__dict__.copy(),
             **(meta or {}),
         },

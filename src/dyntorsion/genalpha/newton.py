@@ -137,7 +137,8 @@ class ConvergenceError(RuntimeError):
 
     Attributes: ``t`` (time level being solved for), ``step`` (its index),
     ``iterations`` (corrections tried), ``residual`` (RMS scaled residual at the
-    last iterate), ``reason``, and ``run``: the :class:`Run` of every step completed
+    last iterate), ``reason``, ``dt`` (the step that failed, when step-size control
+    was on; else None), and ``run``: the :class:`Run` of every step completed
     before the failure (set by :func:`integrate`; nothing computed is lost).
     """
 
@@ -149,6 +150,7 @@ class ConvergenceError(RuntimeError):
         residual: float,
         reason: str,
         run: Run | None = None,
+        dt: float | None = None,
     ):
         self.t, self.step, self.iterations, self.residual, self.reason = (
             t,
@@ -157,9 +159,10 @@ class ConvergenceError(RuntimeError):
             residual,
             reason,
         )
-        self.run = run
+        self.run, self.dt = run, dt
+        at = "" if dt is None else f" with dt={dt:.4g}"
         super().__init__(
-            f"Newton failed at t={t:.10g} (step {step}) after {iterations} iterations, "
+            f"Newton failed at t={t:.10g} (step {step}){at} after {iterations} iterations, "
             f"residual norm {residual:.3e}: {reason}"
         )
 

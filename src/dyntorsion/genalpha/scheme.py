@@ -4,10 +4,17 @@ from __future__ import annotations
 
 import math
 import warnings
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 from typing import NamedTuple
 
-__all__ = ["parameters", "QUADRATURES", "SchemeWarning", "Scheme", "Coefficients"]
+__all__ = [
+    "parameters",
+    "QUADRATURES",
+    "SchemeWarning",
+    "StepControl",
+    "Scheme",
+    "Coefficients",
+]
 
 
 def parameters(lam: float) -> tuple[float, float, float]:
@@ -50,6 +57,55 @@ class Coefficients(NamedTuple):
 
 
 @dataclass(frozen=True)
+class StepControl:
+    """Step-size control: reject a step whose Newton solve fails and retry it with half
+    the step, down to dt_min = dt / 2**max_halvings; grow back (double) after
+    ``grow_after`` accepted steps, up to the run's dt (dt_max = dt).
+
+    Steps are dt / 2**m, so every level of the fixed grid t_0 + i dt is landed on
+    exactly: the traces, snapshots and stop checks stay on the fixed grid (nothing is
+    interpolated).  ``refine`` holds windows (t_start, t_end, m): inside them no step
+    is longer than dt / 2**m.  Changing the step costs nothing at lambda_t = -1 (the
+    rate history has coefficient c_A = 0 in eq 11-12); for lambda_t > -1 the carried
+    rate y_t^{i-1} is a time derivative, valid for any next step, and only c_M = (1 -
+    alpha) / (gamma dt) changes with the step.  Variable steps keep the fixed-step order
+    (tests/test_control.py), with one exception at lambda_t = -1: the fields without a
+    time derivative that act as multipliers of the constraints (the internal forces n)
+    pick up a (-1)^i error at each change of step that the undamped scheme never
+    damps, so they do not converge under refinement; the other fields do.
+    """
+
+    max_halvings: int = 10
+    grow_after: int = 4
+    refine: tuple[tuple[float, float, int], ...] = ()
+
+    def __post_init__(self) -> None:
+        if not (isinstance(self.max_halvings, int) and 1 <= self.max_halvings <= 30):
+            raise ValueError(f"max_halvings={self.max_halvings!r} must be an integer in [1, 30]")
+        if not (isinstance(self.grow_after, int) and self.grow_after >= 1):
+            raise ValueError(f"grow_after={self.grow_after!r} must be an integer >= 1")
+        windows = []
+        for w in self.refine:
+            try:
+                t_a, t_b, m = w
+            except (TypeError, ValueError):
+                raise ValueError(f"refine: {w!r} must be (t_start, t_end, halvings)") from None
+            if not (math.isfinite(t_a) and math.isfinite(t_b) and t_a < t_b):
+                raise ValueError(f"refine: window {w!r} needs finite t_start < t_end")
+            if not (isinstance(m, int) and 0 <= m <= self.max_halvings):
+                raise ValueError(
+                    f"refine: halvings={m!r} must be an integer in [0, max_halvings] = "
+                    f"[0, {self.max_halvings}]"
+                )
+            windows.append((float(t_a), float(t_b), int(m)))
+        object.__setattr__(self, "refine", tuple(windows))
+
+    def min_halvings(self, t_a: float, t_b: float) -> int:
+        """The fewest halvings of dt allowed on the interval (t_a, t_b) by ``refine``."""
+        return max((m for lo, hi, m in self.refine if t_a < hi and t_b > lo), default=0)
+
+
+@dataclass(frozen=True)
 class Scheme:
     """Generalised-alpha parameters in space and time and the load-vector quadrature.
 
@@ -57,13 +113,22 @@ class Scheme:
         (eq 13).  The paper uses -1 for both.
     quadrature : "trapezoidal" (eq 9: average of F at the corners; the paper's)
         or "midpoint" (F at the averaged state).
+    control : a :class:`StepControl` (or its fields as a dict), or None for fixed steps
+        (the default: the paper's grid).
     """
 
     lam_s: float = -1.0
     lam_t: float = -1.0
     quadrature: str = "trapezoidal"
+    control: StepControl | None = None
 
     def __post_init__(self) -> None:
+        if isinstance(self.control, dict):
+            control = dict(self.control)
+            control["refine"] = tuple(tuple(w) for w in control.get("refine", ()))
+            object.__setattr__(self, "control", StepControl(**control))
+        if self.control is not None and not isinstance(self.control, StepControl):
+            raise TypeError(f"control={self.control!r} must be a StepControl, a dict or None")
         for name in ("lam_s", "lam_t"):
             try:
                 parameters(getattr(self, name))
@@ -80,6 +145,15 @@ class Scheme:
                 SchemeWarning,
                 stacklevel=3,
             )
+
+    def params(self) -> dict:
+        """The scheme as data (the cache key's part); ``control`` only when it is set, so
+        fixed-step schemes keep the keys they always had."""
+        out = {"lam_s": self.lam_s, "lam_t": self.lam_t, "quadrature": self.quadrature}
+        if self.control is not None:
+            out["control"] = asdict(self.control)
+            out["control"]["refine"] = [list(w) for w in self.control.refine]
+        return out
 
     @property
     def space(self) -> tuple[float, float, float]:
