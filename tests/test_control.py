@@ -213,3 +213,19 @@ def test_run_scene_records_what_the_controller_did():
     assert c["rejected"] >= 10 and c["accepted"] > ctl["steps"]
     assert c["smallest_dt"] < 0.01 / 8 and "dt_min" in ctl["stopped"]
     assert ctl["t_c"] == fixed["t_c"]  # the onset comes before the first rejection
+
+
+def test_cli_control_follows_the_rod_to_self_contact(capsys):
+    """`dyntorsion buckle --control` runs past the whip that stops the fixed-step run."""
+    from dyntorsion.cli import main
+
+    args = ["buckle", "--a", "16", "--kappa0", "10", "--n-cells", "100", "--dt", "0.005"]
+    main(args)
+    fixed = capsys.readouterr().out
+    assert main([*args, "--control"]) == 0
+    controlled = capsys.readouterr().out
+    stop = {text: line for text in (fixed, controlled) for line in text.splitlines()
+            if line.startswith("stopped")}  # fmt: skip
+    assert "failed" in stop[fixed] and "self-contact" in stop[controlled]
+    t_c = [line for line in controlled.splitlines() if line.startswith("t_c")]
+    assert t_c and t_c[0] in fixed  # the same onset

@@ -10,6 +10,7 @@ import signal
 import sys
 import threading
 from collections.abc import Sequence
+from dataclasses import replace
 
 import numpy as np
 
@@ -20,7 +21,17 @@ from .fidelity import LEVELS
 from .loading import ENDS, AxialLoad, Polynomial, RampHold, Tabulated
 from .results import ON_STALE, Store
 from .rod import Rod
-from .sweep import KIND, PRESETS, Scene, cached, default_store, preset, run_scene, run_sweep
+from .sweep import (
+    KIND,
+    PRESET_CONTROL,
+    PRESETS,
+    Scene,
+    cached,
+    default_store,
+    preset,
+    run_scene,
+    run_sweep,
+)
 
 
 def _numbers(text: str, n: int | None, what: str) -> list[float]:
@@ -95,6 +106,12 @@ def _scene_options(p: argparse.ArgumentParser, kappa0: float) -> None:
     g.add_argument("--lam-s", type=float, default=-1.0, help="lambda_inf in space, [-1, 0]")
     g.add_argument("--lam-t", type=float, default=-1.0, help="lambda_inf in time, [-1, 0]")
     g.add_argument(
+        "--control",
+        action="store_true",
+        help="step-size control: retry a failed step with smaller ones and follow the rod to "
+        "self-contact (genalpha.StepControl; the presets always use it)",
+    )
+    g.add_argument(
         "--t-end",
         type=float,
         default=None,
@@ -162,6 +179,9 @@ def _scene(args: argparse.Namespace, a: float | None) -> Scene:
         or fidelity.Fidelity(args.n_cells, args.dt, lam_s=args.lam_s, lam_t=args.lam_t),
         rod=rod,
     )
+    kwargs = grid.simulate_kwargs()
+    if args.control:
+        kwargs["scheme"] = replace(kwargs["scheme"], control=PRESET_CONTROL)
     return Scene(
         rod=rod,
         seed=seed,
@@ -169,7 +189,7 @@ def _scene(args: argparse.Namespace, a: float | None) -> Scene:
         tension=AxialLoad(args.tension, args.tension_rate),
         ends=args.ends,
         **_history(args, a),
-        **grid.simulate_kwargs(),
+        **kwargs,
     )
 
 
