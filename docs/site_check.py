@@ -12,6 +12,8 @@ page fails on
 - a broken image or a link to a missing file or anchor,
 - a Python error in an output (a traceback, or an error or warning on stderr),
 - a glue placeholder (``{glue:...}`` left in the text, or a glued ``nan``),
+- a Python repr where a value belongs (``<function <lambda>>``, ``<factory>``,
+  ``object at 0x...``: in an API signature, a data value or an output),
 - horizontal overflow (the page, or any element of the content, wider than its box).
 
 A full-page screenshot of each page goes to the screens directory.  Exit status 1
@@ -79,6 +81,14 @@ PROBE = r"""
   for (const el of document.querySelectorAll('.cell_output, .output'))
     if (/Traceback \(most recent call last\)/.test(text(el)))
       out.push(['python', 'traceback in output: ' + text(el).slice(0, 120)]);
+  // Python reprs where a reader expects a value (API signatures, data, outputs)
+  const reprs = new Set();
+  for (const el of main.querySelectorAll('dt, dd > p, .cell_output, td, li, p')) {
+    if (el.closest('.cell_input, div.highlight')) continue;
+    const m = text(el).match(/<(?:function|lambda|factory|bound method)\b[^>]*>+|\bobject at 0x[0-9a-f]+/);
+    if (m) reprs.add(m[0]);
+  }
+  for (const r of reprs) out.push(['repr', 'Python repr in the text: ' + r.slice(0, 60)]);
   // glued values that came out as nan
   for (const el of document.querySelectorAll('.pasted-text, .pasted-inline'))
     if (/^\s*[-+]?nan\s*$/i.test(text(el))) out.push(['glue', 'glued nan']);
@@ -188,12 +198,13 @@ BAD_PAGE = """<!DOCTYPE html><html><head>
 <p>a value {glue:text}`x`</p>
 <img src="missing.png" alt="a missing image">
 <img src="ok.svg">
+<dl><dt>PRESETS = {'a': &lt;function &lt;lambda&gt;&gt;}</dt></dl>
 <a href="nowhere.html">broken link</a> <a href="#no-such-anchor">broken anchor</a>
 <div class="cell_output"><div class="output stderr"><pre>ValueError: bad</pre></div></div>
 <pre>a line of code far too long for the column it sits in, so that it runs out of its box sideways</pre>
 </div></body></html>"""
 OK_SVG = '<svg xmlns="http://www.w3.org/2000/svg" width="10" height="10"></svg>'
-KINDS = {"maths", "network", "glue", "image", "link", "python", "overflow"}
+KINDS = {"maths", "network", "glue", "image", "link", "python", "overflow", "repr"}
 
 
 def self_test(chromium: str, tmp: Path) -> None:

@@ -11,9 +11,11 @@ others:
   B l^2 - i M l - T = 0); the pinned formula M^2/(4 B^2) - T/B = (pi/L)^2 (axial torque);
 * the body-frame transfer matrix, for any B1, B2: the linearised Kirchhoff equations
   (eq 6 in statics) about the twisted straight state have constant coefficients in the
-  body frame,
+  body frame::
+
       B1 k1' + (M - kappa B2) k2 - n2 = 0,   B2 k2' - (M - kappa B1) k1 + n1 = 0,
       n1' = kappa n2 - T k2,                 n2' = -kappa n1 + T k1,
+
   with k1 = phi1' - kappa phi2, k2 = phi2' + kappa phi1 (phi the small rotation of the
   section) and the lateral position in body components q' = (phi2 + kappa q2,
   -phi1 - kappa q1); the end conditions make an 8 x 8 matrix that is singular at the
