@@ -130,7 +130,9 @@ def test_fingerprint_reaches_what_the_old_hand_list_missed():
         "dyntorsion.statics:critical_moment",
         "dyntorsion.statics:critical_twist",
         "dyntorsion.buckling:detect_onset",
-        "dyntorsion.genalpha:integrate",
+        "dyntorsion.genalpha.integrate:integrate",
+        "dyntorsion.genalpha.march:march",  # the compiled march and what it calls
+        "dyntorsion.genalpha.newton:solve_step",
         "dyntorsion.model:load_vector",  # a compiled kernel, by its Python source
         "dyntorsion._abd:factor",
         "dyntorsion.loading",
