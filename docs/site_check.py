@@ -14,6 +14,7 @@ page fails on
 - a glue placeholder (``{glue:...}`` left in the text, or a glued ``nan``),
 - a Python repr where a value belongs (``<function <lambda>>``, ``<factory>``,
   ``object at 0x...``: in an API signature, a data value or an output),
+- a table headed by pandas row numbers (0, 1, 2, ...) or with a "nan" cell,
 - horizontal overflow (the page, or any element of the content, wider than its box).
 
 A full-page screenshot of each page goes to the screens directory.  Exit status 1
@@ -89,6 +90,15 @@ PROBE = r"""
     if (m) reprs.add(m[0]);
   }
   for (const r of reprs) out.push(['repr', 'Python repr in the text: ' + r.slice(0, 60)]);
+  // tables: pandas row numbers (0, 1, 2, ... heading the rows) and "nan" cells
+  for (const tb of main.querySelectorAll('table')) {
+    const heads = Array.from(tb.querySelectorAll('tbody tr > th:first-child'))
+      .map((h) => text(h).trim());
+    if (heads.length > 1 && heads.every((h, i) => h === String(i)))
+      out.push(['table', 'row numbers heading a table: ' + text(tb).trim().slice(0, 50)]);
+    if (Array.from(tb.querySelectorAll('td')).some((td) => /^\s*[-+]?nan\s*$/i.test(text(td))))
+      out.push(['table', 'nan in a table: ' + text(tb).trim().slice(0, 50)]);
+  }
   // glued values that came out as nan
   for (const el of document.querySelectorAll('.pasted-text, .pasted-inline'))
     if (/^\s*[-+]?nan\s*$/i.test(text(el))) out.push(['glue', 'glued nan']);
@@ -199,12 +209,13 @@ BAD_PAGE = """<!DOCTYPE html><html><head>
 <img src="missing.png" alt="a missing image">
 <img src="ok.svg">
 <dl><dt>PRESETS = {'a': &lt;function &lt;lambda&gt;&gt;}</dt></dl>
+<table><tbody><tr><th>0</th><td>1.5</td></tr><tr><th>1</th><td>nan</td></tr></tbody></table>
 <a href="nowhere.html">broken link</a> <a href="#no-such-anchor">broken anchor</a>
 <div class="cell_output"><div class="output stderr"><pre>ValueError: bad</pre></div></div>
 <pre>a line of code far too long for the column it sits in, so that it runs out of its box sideways</pre>
 </div></body></html>"""
 OK_SVG = '<svg xmlns="http://www.w3.org/2000/svg" width="10" height="10"></svg>'
-KINDS = {"maths", "network", "glue", "image", "link", "python", "overflow", "repr"}
+KINDS = {"maths", "network", "glue", "image", "link", "python", "overflow", "repr", "table"}
 
 
 def self_test(chromium: str, tmp: Path) -> None:
