@@ -14,7 +14,7 @@ page fails on
 - a glue placeholder (``{glue:...}`` left in the text, or a glued ``nan``),
 - a Python repr where a value belongs (``<function <lambda>>``, ``<factory>``,
   ``object at 0x...``: in an API signature, a data value or an output),
-- a table headed by pandas row numbers (0, 1, 2, ...) or with a "nan" cell,
+- a table headed by pandas row numbers (0, 1, 2, ...), or with a "nan" or "-0" cell,
 - horizontal overflow (the page, or any element of the content, wider than its box).
 
 A full-page screenshot of each page goes to the screens directory.  Exit status 1
@@ -96,8 +96,11 @@ PROBE = r"""
       .map((h) => text(h).trim());
     if (heads.length > 1 && heads.every((h, i) => h === String(i)))
       out.push(['table', 'row numbers heading a table: ' + text(tb).trim().slice(0, 50)]);
-    if (Array.from(tb.querySelectorAll('td')).some((td) => /^\s*[-+]?nan\s*$/i.test(text(td))))
+    const cells = Array.from(tb.querySelectorAll('td')).map((td) => text(td).trim());
+    if (cells.some((c) => /^[-+]?nan$/i.test(c)))
       out.push(['table', 'nan in a table: ' + text(tb).trim().slice(0, 50)]);
+    if (cells.some((c) => /^[-\u2212]0(\.0*)?(\s*%)?$/.test(c)))
+      out.push(['table', '"-0" in a table: ' + text(tb).trim().slice(0, 50)]);
   }
   // glued values that came out as nan
   for (const el of document.querySelectorAll('.pasted-text, .pasted-inline'))
