@@ -53,18 +53,21 @@ data: $(VENV)/.test-installed
 	$(PY) -m dyntorsion.traces
 
 ## site-check: open every page of the quick build (made by `make test`; built here when
-## missing) in headless Chromium: fails on untypeset maths, requests leaving the site,
-## broken images/links, Python errors, glue placeholders, sideways overflow.
+## missing), or of SITE=docs/_build/html after `make docs`, in headless Chromium: fails on
+## untypeset maths, requests leaving the site, broken images/links, Python errors and
+## reprs, glue placeholders, row numbers/nan/-0 in tables, sideways overflow.
 ## Screenshots: docs/_build/screens/.  Installs Debian's chromium when it is missing.
+SITE ?= docs/_build/quick
 $(VENV)/.site-installed: pyproject.toml | $(PY)
 	$(PY) -m pip install --quiet -e '.[test,docs,site]'
 	touch $@
 
 site-check: $(VENV)/.site-installed
 	@command -v chromium >/dev/null || { apt-get update -q && apt-get install -y -q chromium; }
-	@test -f docs/_build/quick/index.html || \
-	  DYNTORSION_FIDELITY=quick $(PY) -m sphinx -E -q -W --keep-going -b html docs docs/_build/quick
-	$(PY) docs/site_check.py docs/_build/quick --screens docs/_build/screens --self-test
+	@test -f $(SITE)/index.html || test "$(SITE)" != docs/_build/quick || \
+	  DYNTORSION_FIDELITY=quick $(PY) -m sphinx -E -q -W --keep-going -b html docs $(SITE)
+	@test -f $(SITE)/index.html || { echo "site-check: no site in $(SITE) (make docs)"; exit 1; }
+	$(PY) docs/site_check.py $(SITE) --screens docs/_build/screens --self-test
 
 ## lint: ruff check and ruff format --check (CI runs it beside the tests)
 LINTED := src tests benchmarks docs/conf.py docs/site_check.py

@@ -30,6 +30,8 @@ html_theme_options = {"page_width": "1240px", "sidebar_width": "220px", "font_si
 nb_render_markdown_format = "myst"
 autodoc_member_order = "bysource"
 autodoc_typehints = "description"
+# defaults as written in the source (``source=inspect.getsource``, not a repr)
+autodoc_preserve_defaults = True
 
 
 def _alt_text(app, doctree, docname):
@@ -54,5 +56,22 @@ def _alt_text(app, doctree, docname):
             img["alt"] = caption.astext()
 
 
+def _factory_defaults(app, what, name, obj, options, signature, return_annotation):
+    """A dataclass field made by a factory shows the factory (``rod=Rod.paper()``), not
+    Python's placeholder ``<factory>``."""
+    import dataclasses
+    import re
+
+    if not signature or "<factory>" not in signature or not dataclasses.is_dataclass(obj):
+        return None
+    for f in dataclasses.fields(obj):
+        if f.default_factory is not dataclasses.MISSING:
+            made = getattr(f.default_factory, "__qualname__", "<lambda>")
+            made = "…" if "<" in made else f"{made}()"
+            signature = re.sub(rf"\b{f.name}=<factory>", f"{f.name}={made}", signature)
+    return signature, return_annotation
+
+
 def setup(app):
     app.connect("doctree-resolved", _alt_text)
+    app.connect("autodoc-process-signature", _factory_defaults)

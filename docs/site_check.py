@@ -12,6 +12,9 @@ page fails on
 - a broken image or a link to a missing file or anchor,
 - a Python error in an output (a traceback, or an error or warning on stderr),
 - a glue placeholder (``{glue:...}`` left in the text, or a glued ``nan``),
+- a Python repr where a value belongs (``<function <lambda>>``, ``<factory>``,
+  ``object at 0x...``: in an API signature, a data value or an output),
+- a table headed by pandas row numbers (0, 1, 2, ...), or with a "nan" or "-0" cell,
 - horizontal overflow (the page, or any element of the content, wider than its box).
 
 A full-page screenshot of each page goes to the screens directory.  Exit status 1
@@ -79,6 +82,26 @@ PROBE = r"""
   for (const el of document.querySelectorAll('.cell_output, .output'))
     if (/Traceback \(most recent call last\)/.test(text(el)))
       out.push(['python', 'traceback in output: ' + text(el).slice(0, 120)]);
+  // Python reprs where a reader expects a value (API signatures, data, outputs)
+  const reprs = new Set();
+  for (const el of main.querySelectorAll('dt, dd > p, .cell_output, td, li, p')) {
+    if (el.closest('.cell_input, div.highlight')) continue;
+    const m = text(el).match(/<(?:function|lambda|factory|bound method)\b[^>]*>+|\bobject at 0x[0-9a-f]+/);
+    if (m) reprs.add(m[0]);
+  }
+  for (const r of reprs) out.push(['repr', 'Python repr in the text: ' + r.slice(0, 60)]);
+  // tables: pandas row numbers (0, 1, 2, ... heading the rows) and "nan" cells
+  for (const tb of main.querySelectorAll('table')) {
+    const heads = Array.from(tb.querySelectorAll('tbody tr > th:first-child'))
+      .map((h) => text(h).trim());
+    if (heads.length > 1 && heads.every((h, i) => h === String(i)))
+      out.push(['table', 'row numbers heading a table: ' + text(tb).trim().slice(0, 50)]);
+    const cells = Array.from(tb.querySelectorAll('td')).map((td) => text(td).trim());
+    if (cells.some((c) => /^[-+]?nan$/i.test(c)))
+      out.push(['table', 'nan in a table: ' + text(tb).trim().slice(0, 50)]);
+    if (cells.some((c) => /^[-\u2212]0(\.0*)?(\s*%)?$/.test(c)))
+      out.push(['table', '"-0" in a table: ' + text(tb).trim().slice(0, 50)]);
+  }
   // glued values that came out as nan
   for (const el of document.querySelectorAll('.pasted-text, .pasted-inline'))
     if (/^\s*[-+]?nan\s*$/i.test(text(el))) out.push(['glue', 'glued nan']);
@@ -188,12 +211,14 @@ BAD_PAGE = """<!DOCTYPE html><html><head>
 <p>a value {glue:text}`x`</p>
 <img src="missing.png" alt="a missing image">
 <img src="ok.svg">
+<dl><dt>PRESETS = {'a': &lt;function &lt;lambda&gt;&gt;}</dt></dl>
+<table><tbody><tr><th>0</th><td>1.5</td></tr><tr><th>1</th><td>nan</td></tr></tbody></table>
 <a href="nowhere.html">broken link</a> <a href="#no-such-anchor">broken anchor</a>
 <div class="cell_output"><div class="output stderr"><pre>ValueError: bad</pre></div></div>
 <pre>a line of code far too long for the column it sits in, so that it runs out of its box sideways</pre>
 </div></body></html>"""
 OK_SVG = '<svg xmlns="http://www.w3.org/2000/svg" width="10" height="10"></svg>'
-KINDS = {"maths", "network", "glue", "image", "link", "python", "overflow"}
+KINDS = {"maths", "network", "glue", "image", "link", "python", "overflow", "repr", "table"}
 
 
 def self_test(chromium: str, tmp: Path) -> None:

@@ -2,6 +2,7 @@
 
 import json
 
+import pandas as pd
 import pytest
 
 from dyntorsion import glance
@@ -70,6 +71,29 @@ def test_sig_keeps_the_significant_figures(x, digits, text):
     assert glance.sig(x, digits) == text
 
 
+@pytest.mark.parametrize(
+    ("x", "digits", "text"),
+    [
+        (1.25e7, 6, "1.25 × 10⁷"),
+        (1e-8, 6, "10⁻⁸"),
+        (-1e-17, 3, "-10⁻¹⁷"),
+        (4.908738521234051e-14, 6, "4.90874 × 10⁻¹⁴"),
+        (57.735026918962575, 5, "57.735"),
+        (0.0, 3, "0"),
+        (-0.0, 3, "0"),
+        (2.5e-7, 2, "2.5 × 10⁻⁷"),
+    ],
+)
+def test_sci_writes_powers_of_ten_for_a_reader(x, digits, text):
+    assert glance.sci(x, digits) == text
+
+
+def test_md_table_has_no_index_and_escapes_pipes():
+    t = pd.DataFrame({"$|u_3|$": [1.5, 2.0]}, index=[7, 8])
+    lines = glance.md_table(t).splitlines()
+    assert lines == ["| $\\|u_3\\|$ |", "|---|", "| 1.5 |", "| 2.0 |"]
+
+
 def test_sig_never_writes_minus_zero():
     assert glance.sig(-0.0, 3) == "0"
     assert glance.sig(-1e-12, 2) != "-0"
@@ -81,7 +105,7 @@ def test_compact_table_for_the_site(table):
     assert list(t.columns) == [
         "quantity",
         "unit",
-        "seed",
+        "seed [N/m]",
         "paper",
         "ours",
         "difference",
@@ -95,7 +119,7 @@ def test_compact_table_for_the_site(table):
         target = link[link.index("](") + 2 : -1].removeprefix("../")
         assert (docs / target).is_file(), link
     # the paper's value as stated (its digits), ours to the same significant figures
-    row = t[(t["quantity"] == "Fig 8: $t_c$") & (t["seed"] == "10⁻⁸ (stated)")].iloc[0]
+    row = t[(t["quantity"] == "Fig 8: $t_c$") & (t["seed [N/m]"] == "10⁻⁸ (stated)")].iloc[0]
     assert row["paper"] == "20.86" and len(row["ours"].replace(".", "")) == 4
     assert row["difference"].endswith(" %") and row["verdict"] == "differs"
     assert not t["ours"].str.contains("nan|e[+-]", regex=True).any()

@@ -47,3 +47,30 @@ def test_animation_player_refuses_a_network_reference(monkeypatch):
     with pytest.raises(RuntimeError, match="network"):
         plotting.offline_jshtml(anim, alt="x")
     plt.close(fig)
+
+
+def test_save_refuses_text_too_small_to_read(tmp_path, monkeypatch):
+    monkeypatch.setenv("DYNTORSION_FIGURES", str(tmp_path))
+    plotting.use_style()
+    fig, ax = plt.subplots()
+    ax.set_xlabel("readable")
+    plotting.save(fig, "ok")
+    assert (tmp_path / "ok.png").is_file()
+    ax.annotate("tiny note", (0.5, 0.5), fontsize=7)
+    with pytest.raises(ValueError, match=r"'tiny note' \(7 pt\)"):
+        plotting.save(fig, "small")
+    assert not (tmp_path / "small.png").exists()
+    plt.close(fig)
+
+
+def test_tables_show_no_row_numbers_and_no_nan():
+    import pandas as pd
+
+    t = pd.DataFrame({"N": [50, 100], "error": [1e-3, float("nan")]})
+    for html in (
+        plotting.table_html(t),
+        plotting.table_html(t.style.format({"error": "{:.1e}"})),
+    ):
+        assert "row_heading" not in html and "<th>0</th>" not in html
+        assert "nan" not in html and "–" in html
+    assert "<th>50</th>" in plotting.table_html(t.set_index("N"))

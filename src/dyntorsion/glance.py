@@ -33,6 +33,8 @@ __all__ = [
     "compact",
     "markdown",
     "sig",
+    "sci",
+    "md_table",
     "verdict",
     "write_numbers",
 ]
@@ -169,9 +171,25 @@ def sig(x: float, digits: int) -> str:
     return out[1:] if out.startswith("-") and float(out) == 0 else out
 
 
+_SUPERSCRIPT = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
+
+
+def sci(x: float, digits: int = 6, plain: tuple[float, float] = (1e-3, 1e4)) -> str:
+    """``x`` to ``digits`` significant figures for a reader: as :func:`format` ``g``
+    inside ``plain``, else ``1.25 × 10⁷``, and a power of ten alone as ``10⁻⁸``."""
+    if x == 0 or not math.isfinite(x) or plain[0] <= abs(x) < plain[1]:
+        return f"{x + 0.0:.{digits}g}"
+    mant, expo = f"{x:.{digits - 1}e}".split("e")
+    mant = mant.rstrip("0").rstrip(".")
+    power = "10" + str(int(expo)).translate(_SUPERSCRIPT)
+    if mant in ("1", "-1"):
+        return mant[:-1] + power
+    return f"{mant} × {power}"
+
+
 def compact(prefix: str = "") -> pd.DataFrame:
-    """:func:`table` for the site: typeset quantity with its unit, the paper's value as
-    stated, ours to the paper's significant figures, the difference in percent (two
+    """:func:`table` for the site: typeset quantity with its unit, the seed force per
+    length (N/m) where the value depends on it, the paper's value as stated, ours to the paper's significant figures, the difference in percent (two
     significant figures) and the verdict, linked (``prefix`` + page) to the evidence."""
     pub, t = published(), table()
     rows = []
@@ -183,7 +201,7 @@ def compact(prefix: str = "") -> pd.DataFrame:
             {
                 "quantity": symbol,
                 "unit": unit,
-                "seed": r["variant"]
+                "seed [N/m]": r["variant"]
                 .replace("stated seed 1e-8 N/m", "10⁻⁸ (stated)")
                 .replace("seed 1e-17 N/m", "10⁻¹⁷")
                 or "–",
@@ -197,12 +215,22 @@ def compact(prefix: str = "") -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
-def markdown(prefix: str = "") -> str:
-    """:func:`compact` as a MyST table (the site displays it with ``IPython.display.Markdown``)."""
-    t = compact(prefix)
-    lines = ["| " + " | ".join(t.columns) + " |", "|" + "---|" * len(t.columns)]
-    lines += ["| " + " | ".join(str(v) for v in row) + " |" for row in t.itertuples(index=False)]
+def md_table(t: pd.DataFrame) -> str:
+    """A data frame as a MyST table, without its index: headers and cells may hold
+    maths (``$\\kappa_3$``) and links; the site displays it with
+    ``IPython.display.Markdown``.  Cells are written with ``str``: format them first."""
+
+    def cell(v: Any) -> str:
+        return str(v).replace("|", "\\|")
+
+    lines = ["| " + " | ".join(map(cell, t.columns)) + " |", "|" + "---|" * len(t.columns)]
+    lines += ["| " + " | ".join(map(cell, row)) + " |" for row in t.itertuples(index=False)]
     return "\n".join(lines)
+
+
+def markdown(prefix: str = "") -> str:
+    """:func:`compact` as a MyST table (:func:`md_table`)."""
+    return md_table(compact(prefix))
 
 
 def write_numbers(path: str | os.PathLike[str] | None = None) -> Path:

@@ -32,11 +32,41 @@ STYLE = {
 
 
 def use_style() -> None:
-    """The figures' look (:data:`STYLE`); tables show a missing value as a dash, not "nan"."""
+    """The figures' look (:data:`STYLE`); tables show a missing value as a dash, not "nan",
+    and, in a notebook, no row numbers (:func:`table_html`)."""
     import pandas as pd
 
     matplotlib.rcParams.update(STYLE)
     pd.set_option("styler.format.na_rep", "–")
+    try:
+        from IPython import get_ipython
+    except ImportError:  # pragma: no cover - IPython comes with the docs extras
+        return
+    from pandas.io.formats.style import Styler
+
+    shell = get_ipython()
+    if shell is not None:
+        html = shell.display_formatter.formatters["text/html"]
+        html.for_type(pd.DataFrame, table_html)
+        html.for_type(Styler, table_html)
+
+
+def table_html(table) -> str:
+    """A data frame or its ``Styler`` as HTML for the site: the index is shown only when
+    it says something (not 0, 1, 2, ...); missing values are a dash."""
+    import pandas as pd
+
+    if isinstance(table, pd.DataFrame):
+        return table.to_html(index=not _row_numbers(table.index), na_rep="–", border=0)
+    if _row_numbers(table.data.index):
+        table = table.hide(axis="index")
+    # a column given its own format shows NaN as "nan" whatever styler.format.na_rep says
+    return re.sub(r">\s*nan\s*</td>", ">–</td>", table.to_html())
+
+
+def _row_numbers(index) -> bool:
+    """An unnamed integer index numbers rows (a meaningful one has a name)."""
+    return index.nlevels == 1 and index.name is None and index.dtype.kind in "iu"
 
 
 def project_root(start: Path | None = None) -> Path | None:
@@ -55,8 +85,33 @@ def figure_dir() -> Path | None:
     return None if root is None else root / "paper" / "figures"
 
 
+#: the smallest text a figure may carry [pt]
+MIN_FONT_PT = 9.0
+
+
+def check_text_size(fig, name: str = "figure") -> None:
+    """Raise ``ValueError`` naming each visible text of ``fig`` smaller than
+    :data:`MIN_FONT_PT`."""
+    from matplotlib.text import Text
+
+    small = sorted(
+        {
+            f"{t.get_text()!r} ({t.get_fontsize():g} pt)"
+            for t in fig.findobj(Text)
+            if t.get_visible() and t.get_text().strip() and t.get_fontsize() < MIN_FONT_PT
+        }
+    )
+    if small:
+        raise ValueError(
+            f"{name}: text under {MIN_FONT_PT:g} pt, too small to read on the site: "
+            + ", ".join(small[:8])
+        )
+
+
 def save(fig, name: str) -> None:
-    """Write ``name``.png and ``name``.pdf to the figure directory (if there is one)."""
+    """Check the text size (:func:`check_text_size`), then write ``name``.png and
+    ``name``.pdf to the figure directory (if there is one)."""
+    check_text_size(fig, name)
     out = figure_dir()
     if out is None:
         return
