@@ -114,7 +114,9 @@ def main() -> None:
     print(f"Fig 8 t_c: now {now['fig8_t_c']:.4f} s, baseline {base['fig8_t_c']:.4f} s")
     print("cost per node and step (us), N: now / baseline")
     for n in now["us_per_node_step"]:
-        print(f"  N={n:>5s}: {now['us_per_node_step'][n]:6.2f} / {base['us_per_node_step'][n]:6.2f}")
+        print(
+            f"  N={n:>5s}: {now['us_per_node_step'][n]:6.2f} / {base['us_per_node_step'][n]:6.2f}"
+        )
 
 
 if __name__ == "__main__":
