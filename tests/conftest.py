@@ -36,3 +36,21 @@ def _strict_floating_point():
 @pytest.fixture
 def rng():
     return np.random.default_rng(20261121)
+
+
+@pytest.fixture(scope="session", autouse=True)
+def _committed_data_untouched():
+    """No test writes into the committed store data/scenes: a stale record must make a
+    test fail, never be recomputed in place (tests use temporary stores to write)."""
+    from pathlib import Path
+
+    store = Path(__file__).resolve().parents[1] / "data" / "scenes"
+
+    def state():
+        return {p.name: p.stat().st_mtime_ns for p in store.glob("*")} if store.is_dir() else {}
+
+    before = state()
+    yield
+    after = state()
+    changed = sorted(n for n in after.keys() | before.keys() if after.get(n) != before.get(n))
+    assert not changed, f"tests wrote into {store}: {changed[:5]}"
