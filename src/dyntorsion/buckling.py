@@ -367,7 +367,7 @@ class Onset:
 
 def check_window(window, variations=()) -> None:
     """Refuse an onset window (or a variation) that is not two finite fractions
-    0 < lo < hi < 1 of the first peak of |u3(L, t)|."""
+    0 < lo < hi < 1 of the first peak of ``|u3(L, t)|``."""
     for name, w in (("window", window), *(("variations", v) for v in variations)):
         try:
             lo, hi = (float(v) for v in w)
@@ -384,7 +384,7 @@ STATUSES = ("buckled", "forced", "no-onset", "failed")
 def classify_onset(run: BucklingRun, onset: Onset | None, kappa_cri: float | None) -> str:
     """What the run shows: ``"buckled"`` (an onset after the end twist has passed the
     static critical twist ``kappa_cri``), ``"forced"`` (an onset before t = 0 or before
-    |kappa3(0, t)| reaches kappa_cri: the seed bent the rod, not the instability),
+    ``|kappa3(0, t)|`` reaches kappa_cri: the seed bent the rod, not the instability),
     ``"no-onset"`` (the run ended, at t_end or self-contact, without one) or ``"failed"``
     (a Newton failure ended it without one).  With ``kappa_cri=None`` (no static theory
     for the scene) an onset at t_c >= 0 counts as buckled."""
