@@ -218,7 +218,9 @@ def test_workers_die_with_their_parent(tmp_path, sig):
 
 
 def test_sigint_keeps_the_scenes_that_were_running(tmp_path):
-    proc = _start_sweep(tmp_path, "16,17", "1.5")
+    # scenes that run for seconds (no buckling before t_end), so that both are still
+    # running when the signal arrives however fast the machine is
+    proc = _start_sweep(tmp_path, "0.01,0.011", "200", "0")
     try:
         assert _wait_for(lambda: len(list(tmp_path.glob("*.lease"))) == 2)
         assert _wait_for(lambda: len(_children(proc.pid)) >= 2)  # both submitted, workers up
