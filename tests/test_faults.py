@@ -187,6 +187,8 @@ def _start_sweep(store: Path, rates: str, t_end: str, kappa0: str = "10", err=su
         stdout=subprocess.DEVNULL,
         stderr=err,
         text=True,
+        # a test run started as a background job ignores SIGINT, and so would the sweep
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
     )
 
 
