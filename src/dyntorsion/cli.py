@@ -10,20 +10,16 @@ import signal
 import sys
 import threading
 from collections.abc import Sequence
-from dataclasses import replace
 
 import numpy as np
 
-from . import __version__, fidelity
-from .buckling import Perturbation, fit_power_law
+from . import __version__
+from .buckling import fit_power_law
+from .cli_options import add_scene_options, parse_rates, scene_from
 from .faults import EXIT_INTERRUPTED, describe
-from .fidelity import LEVELS
-from .loading import ENDS, AxialLoad, Polynomial, RampHold, Tabulated
 from .results import ON_STALE, Store
-from .rod import Rod
 from .sweep import (
     KIND,
-    PRESET_CONTROL,
     PRESETS,
     Scene,
     cached,
@@ -34,188 +30,8 @@ from .sweep import (
 )
 
 
-def _numbers(text: str, n: int | None, what: str) -> list[float]:
-    try:
-        vals = [float(v) for v in text.split(",")]
-    except ValueError:
-        raise ValueError(f"{what}={text!r} must be comma-separated numbers") from None
-    if n is not None and len(vals) != n:
-        raise ValueError(f"{what}={text!r} must hold {n} numbers (got {len(vals)})")
-    return vals
-
-
-def _level(name: str) -> str:
-    try:
-        return fidelity.check_level(name)
-    except ValueError as err:
-        raise argparse.ArgumentTypeError(str(err)) from None
-
-
-def _scene_options(p: argparse.ArgumentParser, kappa0: float) -> None:
-    g = p.add_argument_group("rod (default: Table 1)")
-    g.add_argument("--rho", type=float, default=1500.0, help="density [kg/m^3] (Table 1: 1500)")
-    g.add_argument("--E", type=float, default=1.25e7, help="Young's modulus [Pa]")
-    g.add_argument("--nu", type=float, default=0.25, help="Poisson's ratio")
-    g.add_argument("--L", type=float, default=1.0, help="length [m]")
-    sec = g.add_mutually_exclusive_group()
-    sec.add_argument("--D", type=float, default=None, help="diameter of a circle [m] (1e-3)")
-    sec.add_argument(
-        "--ellipse", metavar="A,B", help="elliptic section: semi-axes along d1, d2 [m]"
-    )
-    sec.add_argument(
-        "--rectangle", metavar="W,H", help="rectangular section: width (d1), height (d2) [m]"
-    )
-    sec.add_argument(
-        "--properties",
-        metavar="B1,B2,C,RHOA,RHOI1,RHOI2,RHOI3,THICKNESS",
-        help="a rod given by its stiffnesses [N m^2], mass per length [kg/m], rotary inertias "
-        "[kg m] and contact thickness [m] (E, nu, rho are then unused)",
-    )
-    g = p.add_argument_group("loading and ends")
-    g.add_argument("--kappa0", type=float, default=kappa0, help="initial twist [1/m]")
-    g.add_argument(
-        "--history",
-        default="ramp",
-        help="end twist kappa3(0, t): 'ramp' (kappa0 + a t, the paper), 'ramp-hold:HOLD[:TAU]' "
-        "(ramp at --a rounded into a hold at HOLD 1/m over TAU s), 'poly:C0,C1,...' "
-        "(sum C_k t^k), 'table:FILE' (two columns t, kappa; t from 0)",
-    )
-    g.add_argument("--tension", type=float, default=0.0, help="axial end load [N], > 0 tension")
-    g.add_argument("--tension-rate", type=float, default=0.0, help="its rate [N/s]")
-    g.add_argument(
-        "--ends", choices=sorted(ENDS), default="clamped", help="end conditions (clamped: eq 30)"
-    )
-    g = p.add_argument_group("seed and grid")
-    g.add_argument(
-        "--seed",
-        type=float,
-        default=1e-8,
-        help="perturbation magnitude (N/m uniform, N for --seed-form point)",
-    )
-    g.add_argument("--seed-form", choices=("uniform", "point"), default="uniform")
-    g.add_argument("--seed-location", type=float, default=0.5, help="point seed position [m]")
-    g.add_argument(
-        "--fidelity",
-        type=_level,
-        default=None,
-        help=f"grid preset ({', '.join(LEVELS)}; dyntorsion.fidelity), its time step scaled to the rod; "
-        "overrides --n-cells/--dt/--lam-*",
-    )
-    g.add_argument("--n-cells", type=int, default=100, help="cells along the rod")
-    g.add_argument("--dt", type=float, default=0.005, help="time step [s]")
-    g.add_argument("--lam-s", type=float, default=-1.0, help="lambda_inf in space, [-1, 0]")
-    g.add_argument("--lam-t", type=float, default=-1.0, help="lambda_inf in time, [-1, 0]")
-    g.add_argument(
-        "--control",
-        action="store_true",
-        help="step-size control: retry a failed step with smaller ones and follow the rod to "
-        "self-contact (genalpha.StepControl; the presets always use it)",
-    )
-    g.add_argument(
-        "--t-end",
-        type=float,
-        default=None,
-        help="end time [s] (default for the ramp at clamped ends: 3x the paper's delay, eqs 33-34)",
-    )
-
-
-def _rod(args: argparse.Namespace) -> Rod:
-    if args.properties:
-        B1, B2, C, rhoA, r1, r2, r3, t = _numbers(args.properties, 8, "--properties")
-        return Rod.from_properties(
-            L=args.L,
-            B1=B1,
-            B2=B2,
-            C=C,
-            mass_per_length=rhoA,
-            rotary_inertia=(r1, r2, r3),
-            thickness=t,
-        )
-    mat = dict(E=args.E, nu=args.nu, L=args.L, rho=args.rho)
-    if args.ellipse:
-        a, b = _numbers(args.ellipse, 2, "--ellipse")
-        return Rod.elliptic(a=a, b=b, **mat)
-    if args.rectangle:
-        w, h = _numbers(args.rectangle, 2, "--rectangle")
-        return Rod.rectangular(w=w, h=h, **mat)
-    return Rod(D=1e-3 if args.D is None else args.D, **mat)
-
-
-def _history(args: argparse.Namespace, a: float | None) -> dict:
-    """Scene keywords for the end twist: a and kappa0 (the ramp) or a history."""
-    kind, _, rest = args.history.partition(":")
-    if kind == "ramp":
-        if a is None:
-            raise ValueError("--history ramp needs the loading rate --a")
-        return {"a": a, "kappa0": args.kappa0}
-    if kind == "ramp-hold":
-        if a is None:
-            raise ValueError("--history ramp-hold needs the loading rate --a")
-        vals = _numbers(rest, None, "--history ramp-hold:HOLD[:TAU]".replace(":TAU]", "]"))
-        if len(vals) not in (1, 2):
-            raise ValueError("--history ramp-hold:HOLD[,TAU] takes one or two numbers")
-        return {"history": RampHold(a, vals[0], args.kappa0, *vals[1:])}
-    if kind == "poly":
-        return {"history": Polynomial(tuple(_numbers(rest, None, "--history poly")))}
-    if kind == "table":
-        try:
-            t, k = np.loadtxt(rest, delimiter=None, unpack=True, ndmin=2)
-        except (OSError, ValueError) as err:
-            raise ValueError(
-                f"--history table:{rest}: cannot read two columns t, kappa ({err})"
-            ) from None
-        return {"history": Tabulated(tuple(t), tuple(k))}
-    raise ValueError(
-        f"--history={args.history!r}; allowed: ramp, ramp-hold:HOLD[,TAU], poly:C0,C1,..., table:FILE"
-    )
-
-
-def _scene(args: argparse.Namespace, a: float | None) -> Scene:
-    rod = _rod(args)
-    seed = Perturbation(magnitude=args.seed, form=args.seed_form, location=args.seed_location)
-    grid = fidelity.get(
-        "buckling",
-        args.fidelity
-        or fidelity.Fidelity(args.n_cells, args.dt, lam_s=args.lam_s, lam_t=args.lam_t),
-        rod=rod,
-    )
-    kwargs = grid.simulate_kwargs()
-    if args.control:
-        kwargs["scheme"] = replace(kwargs["scheme"], control=PRESET_CONTROL)
-    return Scene(
-        rod=rod,
-        seed=seed,
-        t_end=args.t_end,
-        tension=AxialLoad(args.tension, args.tension_rate),
-        ends=args.ends,
-        **_history(args, a),
-        **kwargs,
-    )
-
-
-def _rates(text: str) -> list[float]:
-    """'0.1,0.4,1.6' or 'geom:0.05:16:12' (12 rates spaced logarithmically)."""
-    if text.startswith("geom:"):
-        parts = text[5:].split(":")
-        try:
-            lo, hi, n = float(parts[0]), float(parts[1]), int(parts[2])
-            if len(parts) != 3:
-                raise IndexError
-        except (IndexError, ValueError):
-            raise ValueError(
-                f"--rates {text!r}: write geom:LO:HI:N (e.g. geom:0.05:16:12)"
-            ) from None
-        if not (0 < lo < hi and n >= 2):
-            raise ValueError(f"--rates {text!r}: need 0 < LO < HI and N >= 2")
-        return [float(v) for v in np.geomspace(lo, hi, n)]
-    rates = _numbers(text, None, "--rates") if text.strip(", ") else []
-    if not rates:
-        raise ValueError(f"--rates {text!r} holds no rate (e.g. 0.1,0.4,1.6 or geom:0.05:16:12)")
-    return rates
-
-
 def _buckle(args: argparse.Namespace) -> int:
-    scene = _scene(args, args.a)
+    scene = scene_from(args, args.a)
     if args.store:
         table = run_sweep([scene], args.store, on_stale=args.on_stale, progress=False)
         row = table.iloc[0].to_dict()
@@ -247,7 +63,7 @@ def _sweep_scenes(args: argparse.Namespace) -> list[Scene]:
         return [sc for name in args.preset for sc in preset(name)]
     if not args.rates:
         raise SystemExit("give --rates (e.g. 0.1,0.4,1.6 or geom:0.05:16:12) or --preset")
-    return [_scene(args, a) for a in _rates(args.rates)]
+    return [scene_from(args, a) for a in parse_rates(args.rates)]
 
 
 def _print_fit(rows: list[dict]) -> None:
@@ -432,7 +248,7 @@ def parser() -> argparse.ArgumentParser:
     b.add_argument(
         "--a", type=float, default=None, help="loading rate [rad/(m s)] (ramp histories)"
     )
-    _scene_options(b, kappa0=0.0)
+    add_scene_options(b, kappa0=0.0)
     b.add_argument(
         "--store", default=None, help="cache folder: read the scene from it, or compute and add it"
     )
@@ -447,7 +263,7 @@ def parser() -> argparse.ArgumentParser:
         help="a named sweep (repeatable); see dyntorsion.sweep.PRESETS",
     )
     s.add_argument("--rates", default=None, help="'0.1,0.4,1.6' or 'geom:LO:HI:N'")
-    _scene_options(s, kappa0=10.0)
+    add_scene_options(s, kappa0=10.0)
     s.add_argument(
         "--store", default=None, help="cache folder (default: $DYNTORSION_DATA, else data/scenes)"
     )
