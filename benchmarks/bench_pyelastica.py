@@ -153,6 +153,7 @@ def elastica_run(
         u3_end=np.array(trace["u3"]),
         rod=rod,
         params={"a": A_RATE, "kappa0": KAPPA0},
+        history=None,  # the ramp: detect_onset takes kappa0 + a t_c
     )
     return run, wall, steps
 
@@ -182,7 +183,11 @@ def ladder(name, runs):
                 f"at t = {run.t[bad[0]]:.3f} s"
             )
             run = SimpleNamespace(
-                t=run.t[: bad[0]], u3_end=run.u3_end[: bad[0]], rod=run.rod, params=run.params
+                t=run.t[: bad[0]],
+                u3_end=run.u3_end[: bad[0]],
+                rod=run.rod,
+                params=run.params,
+                history=None,
             )
         U = np.abs(run.u3_end)
         i_peak = int(np.argmax(U)) if U.size else 0

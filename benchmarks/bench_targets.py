@@ -3,15 +3,21 @@
     python benchmarks/bench_targets.py [--baseline COMMIT] [--quick]
 
 Every measurement runs twice in this one invocation: with the code of this checkout
-and with the code of ``--baseline`` (default 6fcb9be, the engine before the speed
-work), checked out into a temporary git worktree and run in a subprocess, so both
-see the same machine load.  Medians of repeated runs; nothing is asserted.
+and with the code of ``--baseline`` (default 434e8a7, the engine before the Newton
+stopping test of session 9; 6fcb9be is the engine before any speed work), checked out into a temporary git worktree and run in a subprocess, so both
+see the same machine load.  Medians of repeated runs; nothing is asserted.  On the
+shared 2-core machine the same code measured 0.7x-1.5x of itself between runs, so the
+Newton counts per step of the Fig 8 scene are printed too (they do not depend on load).
 
 * Fig 8 scene (a = 1.6, kappa0 = 0, stated seed) at N = 50, dt = 0.02 s run to
   t = 18 s, just past its first |u3(L)| peak, so that the onset can be detected
   (t_c within 0.5 % of the converged value on this grid; floor 50 ms);
+* the same with each Newton stopping test (``Newton(stopping=...)``; the baseline has
+  only the correction test and shows its default there);
 * the 16-rate Fig 10 sweep at the standard grid (N = 100, dt = 0.005 s), one core,
   nothing cached (floor 2 s);
+* the fast onset estimate (``linear_predictions.estimate``), median per Fig 10
+  scene in ms (floor 10 ms);
 * the linear prediction of the Fig 10 scene a = 1.6, with the torsional waves and on
   the uniform ramp (floor: no slower than the simulated scene);
 * cost per node and step at N = 50 ... 1600 (floor: flat in N).
@@ -47,11 +53,37 @@ res = {}
 fig8 = lambda: b.detect_onset(b.simulate(a=1.6, n_cells=50, dt=0.02, t_end=18.0))
 res["fig8_onset_s"] = median(fig8, 3)
 res["fig8_t_c"] = fig8().t_c
+from dyntorsion.genalpha import Newton
+for stop in ("correction", "contraction"):
+    try:
+        nw = Newton(stopping=stop)
+    except TypeError:
+        nw = Newton()
+    run = lambda: b.detect_onset(b.simulate(a=1.6, n_cells=50, dt=0.02, t_end=18.0, newton=nw))
+    res[f"fig8_{stop}_s"] = median(run, 3)
+    onset = run()
+    res[f"fig8_{stop}_t_c"] = onset.t_c
+    sim = b.simulate(a=1.6, n_cells=50, dt=0.02, t_end=18.0, newton=nw).run
+    res[f"fig8_{stop}_per_step"] = [
+        float(sim.iterations.sum() / sim.steps),
+        float(sim.residual_evaluations.sum() / sim.steps),
+        int(sim.factorisations.sum()),
+    ]
 scenes = S.preset("fig10")
 if quick:
     scenes = scenes[::4]
 res["fig10_scenes"] = len(scenes)
 res["fig10_sweep_s"] = median(lambda: [S.run_scene(sc) for sc in scenes], 1)
+try:
+    from dyntorsion.linear_predictions import estimate
+except ImportError:
+    estimate = None
+if estimate is not None:
+    estimate(scenes[0])
+    res["estimate_ms"] = 1e3 * statistics.median(
+        [median(lambda sc=sc: estimate(sc), 3) for sc in scenes])
+else:
+    res["estimate_ms"] = float("nan")
 model = LateralModel()
 model.passage(1.6, 10.0, 1e-8, waves=False, t_end=0.1)
 res["linear_waves_s"] = median(lambda: model.passage(1.6, 10.0, 1e-8, waves=True), 1 if quick else 3)
@@ -79,7 +111,7 @@ def measure(src: Path, quick: bool) -> dict:
 
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    p.add_argument("--baseline", default="6fcb9be", help="commit of the engine to compare with")
+    p.add_argument("--baseline", default="434e8a7", help="commit of the engine to compare with")
     p.add_argument("--quick", action="store_true", help="a quarter of the Fig 10 rates")
     args = p.parse_args()
     start = time.perf_counter()
@@ -96,8 +128,11 @@ def main() -> None:
             subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force", str(wt)])
     rows = [
         ("Fig 8 scene to its onset, N=50, dt=0.02 s", "fig8_onset_s", 0.05),
+        ("  with Newton(stopping='correction')", "fig8_correction_s", 0.05),
+        ("  with Newton(stopping='contraction')", "fig8_contraction_s", 0.05),
         (f"Fig 10 sweep, {now['fig10_scenes']} rates, standard grid, 1 core", "fig10_sweep_s",
          2.0 * now["fig10_scenes"] / 16),
+        ("fast onset estimate, median per Fig 10 scene [ms]", "estimate_ms", 10.0),
         ("linear prediction a=1.6 with waves", "linear_waves_s", now["sim_fig10_a1.6_s"]),
         ("linear prediction a=1.6, uniform ramp", "linear_ramp_s", now["sim_fig10_a1.6_s"]),
         ("(the simulated Fig 10 scene a=1.6 to 10 s)", "sim_fig10_a1.6_s", None),
@@ -111,7 +146,14 @@ def main() -> None:
             f"{label:52s} {fl:>8s} {now[key]:9.3f} {base[key]:9.3f} "
             f"{base[key] / now[key]:6.1f}  {met}"
         )
-    print(f"Fig 8 t_c: now {now['fig8_t_c']:.4f} s, baseline {base['fig8_t_c']:.4f} s")
+    for key in ("fig8_t_c", "fig8_correction_t_c", "fig8_contraction_t_c"):
+        print(f"{key}: now {now[key]:.6f} s, baseline {base[key]:.6f} s")
+    print("Fig 8 scene: corrections / residuals per step, factorisations (load-independent)")
+    for stop in ("correction", "contraction"):
+        n, b = now[f"fig8_{stop}_per_step"], base[f"fig8_{stop}_per_step"]
+        print(
+            f"  {stop:12s} now {n[0]:.2f} / {n[1]:.2f}, {n[2]}; baseline {b[0]:.2f} / {b[1]:.2f}, {b[2]}"
+        )
     print("cost per node and step (us), N: now / baseline")
     for n in now["us_per_node_step"]:
         print(

@@ -1,6 +1,6 @@
 """Compare the buckling records of an older commit with the current store, scene by scene.
 
-Old records (any earlier key layout) are mapped to today's :class:`~dyntorsion.sweep.Scene`
+Old records (any earlier key layout) are mapped to today's :class:`~dyntorsion.scene.Scene`
 and looked up by today's key; their results are compared entry by entry.  Prints one line
 per preset-level summary and every scene whose numbers differ.
 
@@ -64,19 +64,21 @@ def scene_of(p: dict) -> S.Scene:
     )
 
 
-def compare(old: dict, new: dict) -> tuple[str, float]:
-    """'identical', 'differs' (largest relative change of a shared number) or 'keys'."""
-    worst = 0.0
+def compare(old: dict, new: dict) -> tuple[str, float, list[str]]:
+    """'identical' or 'differs', the largest relative change of a shared number, and the
+    entries that changed other than by a float (a status, a stop reason, a count)."""
+    worst, other = 0.0, []
     for k, v in old.items():
         w = new.get(k)
         if isinstance(v, float) and isinstance(w, float):
             worst = max(worst, abs(w - v) / max(abs(v), 1e-300))
         elif k == "stopped" and isinstance(v, str):
             if v.split(" (")[0] != str(w).split(" (")[0]:
-                worst = max(worst, float("inf"))
+                other.append(f"stopped: {v!r} -> {w!r}")
         elif v != w:
-            worst = max(worst, float("inf"))
-    return ("identical" if worst == 0.0 else "differs"), worst
+            other.append(k)
+    same = worst == 0.0 and not other
+    return ("identical" if same else "differs"), worst, other
 
 
 def main(argv=None) -> int:
@@ -86,7 +88,7 @@ def main(argv=None) -> int:
     args = ap.parse_args(argv)
     store = R.Store(args.store)
     tally: Counter = Counter()
-    worst = 0.0
+    worst, t_c_worst, t_c_ratio = 0.0, (0.0, ""), (0.0, "")
     for rec in old_records(args.commit):
         sc = scene_of(rec["params"])
         path = store.path(S.KIND, sc.params())
@@ -94,12 +96,21 @@ def main(argv=None) -> int:
             tally["not recomputed"] += 1
             continue
         new = store.read(path)
-        verdict, rel = compare(rec["result"], new["result"])
+        old_r, new_r = rec["result"], new["result"]
+        verdict, rel, other = compare(old_r, new_r)
         tally[verdict] += 1
         if verdict != "identical":
             worst = max(worst, rel)
-            print(f"{verdict} (largest relative change {rel:.2g}): {sc.label()}")
+            also = f"; also changed: {', '.join(other)}" if other else ""
+            print(f"{verdict} (largest relative change {rel:.2g}{also}): {sc.label()}")
+        if isinstance(old_r.get("t_c"), float) and isinstance(new_r.get("t_c"), float):
+            d = abs(new_r["t_c"] - old_r["t_c"])
+            t_c_worst = max(t_c_worst, (d, sc.label()))
+            if old_r.get("uncertainty_t"):
+                t_c_ratio = max(t_c_ratio, (d / old_r["uncertainty_t"], sc.label()))
     print(", ".join(f"{n} {k}" for k, n in tally.items()), f"; largest relative change {worst:.2g}")
+    print(f"largest |change of t_c| {t_c_worst[0]:.3g} s ({t_c_worst[1]})")
+    print(f"largest |change of t_c| / onset uncertainty {t_c_ratio[0]:.3g} ({t_c_ratio[1]})")
     return 0
 
 

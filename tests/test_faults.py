@@ -23,7 +23,7 @@ from dyntorsion import sweep as S
 from dyntorsion import waves as W
 from dyntorsion.buckling import Perturbation, detect_onset, fit_power_law, simulate
 from dyntorsion.cli import main
-from dyntorsion.genalpha.guard import BudgetError
+from dyntorsion.genalpha.guard import BudgetError, StepLongerThanRunError
 from dyntorsion.leases import acquire_lease
 
 CLI = [sys.executable, "-m", "dyntorsion"]
@@ -328,6 +328,15 @@ def test_simulate_refuses_bad_arguments_by_name(kw, words):
     args = {"a": 1.0, "n_cells": 4, "dt": 0.01, "t_end": 0.05, **kw}
     with pytest.raises(ValueError, match=words):
         simulate(**args)
+
+
+def test_a_step_longer_than_the_run_has_its_own_error():
+    """Pages and callers tell this refusal from others by its type, not its words."""
+    with pytest.raises(StepLongerThanRunError, match="dt=0.1 exceeds the run's length"):
+        simulate(a=1.0, n_cells=4, dt=0.1, t_end=0.05)
+    with pytest.raises(ValueError) as other:
+        simulate(a=1.0, n_cells=4, dt=0.0, t_end=0.05)
+    assert not isinstance(other.value, StepLongerThanRunError)
 
 
 @pytest.mark.parametrize("rates", [",", "geom:0.1:1", "geom:1:0.1:3", "1,x"])

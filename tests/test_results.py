@@ -6,6 +6,7 @@ import json
 import pytest
 
 from dyntorsion import __version__
+from dyntorsion import fingerprint as F
 from dyntorsion import results as R
 
 PARAMS = {"a": 1.6, "grid": {"n_cells": 100, "dt": 0.005}, "window": (0.1, 0.5)}
@@ -24,7 +25,7 @@ def test_roundtrip_with_provenance(store):
     assert rec["params"]["window"] == [0.1, 0.5]
     prov = rec["provenance"]
     assert prov["package_version"] == __version__
-    assert prov["code"] == R.code_fingerprint()
+    assert prov["code"] == F.code_fingerprint()
     assert prov["wall_time_s"] == 1.25
     assert {"python", "numpy", "numba", "created"} <= set(prov)
     assert path.name == f"demo-{R.key('demo', PARAMS)}.json"
@@ -110,26 +111,27 @@ def test_non_finite_numbers_are_not_stored(store):
 
 def test_fingerprint_ignores_docstrings_and_comments_but_not_code():
     def dump(src):
-        return ast.dump(R._strip_docstrings(ast.parse(src)))
+        return ast.dump(F._strip_docstrings(ast.parse(src)))
 
     base = 'def f(x):\n    """Eq (33)."""\n    return 2 * x\n'
     assert dump(base) == dump(
         'def f(x):\n    """Other words."""\n    # a comment\n    return 2 * x\n'
     )
     assert dump(base) != dump('def f(x):\n    """Eq (33)."""\n    return 3 * x\n')
-    assert R._source_digest("dyntorsion.results") == R._source_digest("dyntorsion.results")
-    assert R.code_fingerprint() == R.code_fingerprint(R.DEFAULT_ROOTS)
-    assert R.code_fingerprint(R.DEFAULT_ROOTS[:-1]) != R.code_fingerprint()
+    assert F._source_digest("dyntorsion.results") == F._source_digest("dyntorsion.results")
+    assert F.code_fingerprint() == F.code_fingerprint(F.DEFAULT_ROOTS)
+    assert F.code_fingerprint(F.DEFAULT_ROOTS[:-1]) != F.code_fingerprint()
 
 
 def test_fingerprint_reaches_what_the_old_hand_list_missed():
     """The functions issue 14 found outside the hand-kept list are on the derived path."""
-    reached = R.reachable(R.KIND_ROOTS["buckling-onset"])
+    reached = F.reachable(F.KIND_ROOTS["buckling-onset"])
     for name in (
-        "dyntorsion.sweep:simulate_scene",
+        "dyntorsion.scene:simulate_scene",
         "dyntorsion.statics:critical_moment",
         "dyntorsion.statics:critical_twist",
-        "dyntorsion.buckling:detect_onset",
+        "dyntorsion.onset:detect_onset",
+        "dyntorsion.published:value",  # the paper's b and sigma size the runs
         "dyntorsion.genalpha.integrate:integrate",
         "dyntorsion.genalpha.march:march",  # the compiled march and what it calls
         "dyntorsion.genalpha.newton:solve_step",
@@ -164,7 +166,7 @@ def test_fingerprint_covers_every_function_a_record_runs():
         run_scene(scene)
     finally:
         sys.setprofile(None)
-    reached = R.reachable(R.KIND_ROOTS["buckling-onset"])
+    reached = F.reachable(F.KIND_ROOTS["buckling-onset"])
     modules = {n for n in reached if ":" not in n}
     assert executed
     for mod, qual in executed:
@@ -191,17 +193,17 @@ def test_editing_any_function_on_the_path_changes_the_fingerprint(tmp_path, monk
     for name, text in files.items():
         (pkg / name).write_text(text)
     monkeypatch.syspath_prepend(str(tmp_path))
-    monkeypatch.setattr(R, "PACKAGE", "fp_walk")
+    monkeypatch.setattr(F, "PACKAGE", "fp_walk")
 
     def fingerprint():
         for m in ("fp_walk.a", "fp_walk.b"):
             sys.modules.pop(m, None)
-        R._module_tree.cache_clear()
+        F._module_tree.cache_clear()
         importlib.invalidate_caches()
-        return R.fingerprint_of(R.reachable(("fp_walk.a:root",)))
+        return F.fingerprint_of(F.reachable(("fp_walk.a:root",)))
 
     base = fingerprint()
-    assert set(R.reachable(("fp_walk.a:root",))) == {
+    assert set(F.reachable(("fp_walk.a:root",))) == {
         "fp_walk.a:root",
         "fp_walk.b:helper",
         "fp_walk.b:SCALE=",
@@ -223,5 +225,5 @@ def test_fingerprint_ignores_import_order(tmp_path, monkeypatch):
     )
     (pkg / "c.py").write_text("import os\nimport math\n\n\ndef f():\n    return math.e\n")
     monkeypatch.syspath_prepend(str(tmp_path))
-    da, db, dc = (R._source_digest(f"fp_demo.{m}") for m in "abc")
+    da, db, dc = (F._source_digest(f"fp_demo.{m}") for m in "abc")
     assert da == db != dc

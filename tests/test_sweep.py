@@ -219,7 +219,7 @@ def test_stale_scene_is_recomputed_or_refused(serial, tmp_path, monkeypatch):
         (tmp_path / f"{S.KIND}-{rec['key']}.json").write_text(
             (store.root / f"{S.KIND}-{rec['key']}.json").read_text()
         )
-    monkeypatch.setattr(R, "code_fingerprint", lambda *a: "changed-code")
+    monkeypatch.setattr(R, "code_of", lambda *a: "changed-code")
     with pytest.raises(R.StaleResultError, match="code fingerprint"):
         S.run_sweep(coarse(), copy, on_stale="error", progress=False)
     log = []

@@ -8,13 +8,85 @@ numbers of size 1e-8 and we do not want reassociated sums to move it.
 
 Set ``NUMBA_DISABLE_JIT=1`` to run every kernel as plain Python (slow, but
 debuggable); that switch is numba's own.
+
+The on-disk cache of the package's kernels lives in a folder named by the hash of
+every module that defines kernels (:func:`kernel_sources_digest`), in the module's
+``__pycache__`` (or under ``NUMBA_CACHE_DIR`` when set, or the temporary folder when
+neither is writable).  Numba by itself notices a change of a kernel's own file only:
+a kernel whose callee in another file changed would load its old compiled code and
+run the old callee.  Keyed by the sources of all kernels, any such edit recompiles.
 """
 
 from __future__ import annotations
 
+import hashlib
+import os
+import tempfile
+from functools import cache
+from pathlib import Path
+
 import numba
+from numba.core import caching
 
 JIT_OPTIONS = {"cache": True, "nogil": True, "fastmath": False, "error_model": "numpy"}
+
+#: the package's source folder: kernels defined below it use :class:`SourceKeyedLocator`
+PACKAGE_DIR = Path(__file__).resolve().parent
+
+
+def kernel_sources_digest(root: Path = PACKAGE_DIR) -> str:
+    """Hash of every module below ``root`` that uses this module (the ones defining
+    kernels), by relative path and content."""
+    h = hashlib.sha256()
+    for path in sorted(root.rglob("*.py")):
+        text = path.read_bytes()
+        if b"_numba" in text and path.name != "_numba.py":
+            h.update(path.relative_to(root).as_posix().encode() + b"\0" + text + b"\0")
+    h.update(Path(__file__).read_bytes())
+    return h.hexdigest()[:16]
+
+
+@cache
+def _digest() -> str:
+    return kernel_sources_digest()
+
+
+class SourceKeyedLocator(caching._SourceFileBackedLocatorMixin, caching._CacheLocator):
+    """Numba cache locator for the package's kernels: a folder per
+    :func:`kernel_sources_digest` (see the module docstring)."""
+
+    def __init__(self, py_func, py_file: str, base: Path):
+        self._py_file = py_file
+        self._lineno = py_func.__code__.co_firstlineno
+        self._cache_path = str(base)
+
+    def get_cache_path(self) -> str:
+        return self._cache_path
+
+    @classmethod
+    def from_function(cls, py_func, py_file):
+        try:
+            Path(py_file).resolve().relative_to(PACKAGE_DIR)
+        except (ValueError, OSError):
+            return None  # not ours: numba's own locators decide
+        name = f"numba-{_digest()}"
+        sub = cls.get_suitable_cache_subpath(py_file)
+        bases = [Path(py_file).parent / "__pycache__" / name]
+        if numba.config.CACHE_DIR:
+            bases.insert(0, Path(numba.config.CACHE_DIR) / name / sub)
+        bases.append(Path(tempfile.gettempdir()) / f"dyntorsion-numba-{os.getuid()}" / name / sub)
+        for base in bases:
+            locator = cls(py_func, py_file, base)
+            try:
+                locator.ensure_cache_path()
+            except OSError:
+                continue
+            return locator
+        return None
+
+
+if SourceKeyedLocator not in caching.CacheImpl._locator_classes:
+    caching.CacheImpl._locator_classes.insert(0, SourceKeyedLocator)
 
 
 def jit(func=None, signature=None, **overrides):

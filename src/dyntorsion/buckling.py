@@ -1,12 +1,12 @@
 """Torsional buckling (section 6): the dynamic buckling scene (boundary conditions of
-eq 30, or any end set, twist history and axial load of :mod:`dyntorsion.loading`), the
-onset of buckling and the delay law (eqs 33-34).  The static critical twist (eqs 31-32)
-lives in :mod:`dyntorsion.statics` and is re-exported here.
+eq 30, or any end set, twist history and axial load of :mod:`dyntorsion.loading`).
+The onset of buckling lives in :mod:`dyntorsion.onset`, the delay law (eqs 33-34) in
+:mod:`dyntorsion.delay_law` and the static critical twist (eqs 31-32) in
+:mod:`dyntorsion.statics`; all are re-exported here.
 """
 
 from __future__ import annotations
 
-import math
 import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import asdict, dataclass, field
@@ -15,11 +15,13 @@ from typing import Any
 import numpy as np
 
 from . import shapes
+from .delay_law import PowerLawFit, fit_power_law
 from .genalpha import ConvergenceError, Newton, Run, Scheme, integrate
 from .genalpha.guard import check_time_grid, real
 from .loading import AxialLoad, Ends, History, Ramp
 from .loading import ends as _ends
 from .model import Cosserat
+from .onset import STATUSES, Onset, check_window, classify_onset, detect_onset
 from .postbuckling import diagnose
 from .rod import Rod
 from .statics import (
@@ -198,7 +200,7 @@ def simulate(
     """Run the buckling scene of section 6, or any extension of it.
 
     Table 1 rod (or ``rod``, any section), end conditions ``ends`` (default
-    ``"clamped"``: eq 30; see :data:`dyntorsion.loading.ENDS`), end twist
+    ``"clamped"``: eq 30; see :data:`dyntorsion.end_conditions.ENDS`), end twist
     kappa3(0, t) = kappa0 + a t (the paper) or ``history`` (a
     :class:`~dyntorsion.loading.History`), axial end load ``tension`` [N] (a number or
     an :class:`~dyntorsion.loading.AxialLoad`; positive = tension), initial state y = 0
@@ -345,358 +347,4 @@ def simulate(
         history=hist,
         load=load,
         ends=end_set,
-    )
-
-
-# ================================================================= onset of buckling
-@dataclass(frozen=True)
-class Onset:
-    """Critical time and twist from the linear fit of u3(L, t) (section 6)."""
-
-    t_c: float
-    kappa3: float
-    uncertainty_t: float
-    uncertainty_kappa3: float
-    slope: float
-    intercept: float
-    window: tuple[float, float]
-    variations: dict[tuple[float, float], float]
-    t_ref: float = math.nan
-    u_ref: float = math.nan
-
-
-def check_window(window, variations=()) -> None:
-    """Refuse an onset window (or a variation) that is not two finite fractions
-    0 < lo < hi < 1 of the first peak of ``|u3(L, t)|``."""
-    for name, w in (("window", window), *(("variations", v) for v in variations)):
-        try:
-            lo, hi = (float(v) for v in w)
-        except (TypeError, ValueError):
-            raise ValueError(f"{name}={w!r} must be a pair (lo, hi) with 0 < lo < hi < 1") from None
-        if not 0 < lo < hi < 1:
-            raise ValueError(f"{name}={tuple(w)!r} must satisfy 0 < lo < hi < 1")
-
-
-#: what an onset record says happened (:func:`classify_onset`)
-STATUSES = ("buckled", "forced", "no-onset", "failed")
-
-
-def classify_onset(run: BucklingRun, onset: Onset | None, kappa_cri: float | None) -> str:
-    """What the run shows: ``"buckled"`` (an onset after the end twist has passed the
-    static critical twist ``kappa_cri``), ``"forced"`` (an onset before t = 0 or before
-    ``|kappa3(0, t)|`` reaches kappa_cri: the seed bent the rod, not the instability),
-    ``"no-onset"`` (the run ended, at t_end or self-contact, without one) or ``"failed"``
-    (a Newton failure ended it without one).  With ``kappa_cri=None`` (no static theory
-    for the scene) an onset at t_c >= 0 counts as buckled."""
-    if onset is None:
-        return "failed" if run.stopped.startswith("failed") else "no-onset"
-    if onset.t_c < run.t[0]:
-        return "forced"
-    if kappa_cri is None:
-        return "buckled"
-    upto = np.abs(run.kappa3_left[run.t <= onset.t_c])
-    passed = max(float(upto.max(initial=0.0)), abs(float(run.end_twist(onset.t_c))))
-    return "buckled" if passed >= kappa_cri else "forced"
-
-
-def detect_onset(
-    run: BucklingRun,
-    window: tuple[float, float] = (0.1, 0.5),
-    variations: Sequence[tuple[float, float]] = ((0.05, 0.3), (0.2, 0.7)),
-    u_ref: float | None = None,
-) -> Onset:
-    """Fit a straight line to the initial dramatic variation of u3(L, t), extrapolate
-    to u3 = 0: t_c and the end twist kappa3 = kappa3(0, t_c) of the run's history
-    (kappa0 + a t_c for the paper's ramp).
-
-    Window rule (deterministic): ``U = |u3(L, t)|``.  The rise starts when U first
-    exceeds ``u_ref`` (default L / T0, T0 = L^2 sqrt(rho A / B1) the bending time
-    scale: 0.023 m/s for Table 1, far above the prebuckling level and far below
-    the first peak); its peak U_peak is the running maximum of U at the first
-    later sample where U has fallen below 0.7 of that running maximum (so the
-    small torsional-wave ripples on the rise do not count as a peak).  The fit
-    uses the samples from the first time U exceeds ``window[0] * U_peak`` to the
-    first time it exceeds ``window[1] * U_peak``.  The same fit with each of
-    ``variations`` gives the method's uncertainty: the largest ``|t_c - t_c(variation)|``.
-
-    ``t_ref`` is the time at which U first reaches ``u_ref`` (linear interpolation
-    between samples): the level a linear theory can be compared with (see
-    :mod:`dyntorsion.linear_stability`), where ``t_c`` is an extrapolation from the
-    nonlinear rise.
-    """
-    check_window(window, variations)
-    t, u = np.asarray(run.t), np.asarray(run.u3_end)
-    U = np.abs(u)
-    if not np.any(U > 0):
-        raise ValueError("u3(L, t) is identically zero: the rod never left the straight state")
-    if u_ref is None:
-        u_ref = run.rod.L / run.rod.T0
-    above = np.nonzero(U >= u_ref)[0]
-    if above.size == 0:
-        if run.stopped.startswith("failed"):
-            advice = (
-                f"the run ended on a Newton failure at t = {run.t[-1]:.6g} s before buckling "
-                "(refine dt or change the Newton options; a longer t_end does not help)"
-            )
-        elif run.stopped != "t_end":
-            advice = f"the run stopped before buckling ({run.stopped})"
-        else:
-            advice = "the run ends before buckling; increase t_end"
-        raise ValueError(f"|u3(L, t)| never reaches u_ref = {u_ref:.3g} m/s: {advice}")
-    i_start = int(above[0])
-    if i_start == 0:
-        t_ref = float(t[0])
-    else:
-        u0, u1 = U[i_start - 1], U[i_start]
-        t_ref = float(t[i_start - 1] + (u_ref - u0) / (u1 - u0) * (t[i_start] - t[i_start - 1]))
-    running = np.maximum.accumulate(U[i_start:])
-    drop = np.nonzero(U[i_start:] < 0.7 * running)[0]
-    end = i_start + (int(drop[0]) if drop.size else U.size - i_start)
-    i_peak = i_start + int(np.argmax(U[i_start:end]))
-    U_peak, sign = U[i_peak], np.sign(u[i_peak])
-
-    def fit(lo: float, hi: float):
-        if not 0 < lo < hi < 1:
-            raise ValueError(f"window=({lo}, {hi}) must satisfy 0 < lo < hi < 1")
-        head = U[: i_peak + 1]
-        i0 = int(np.argmax(head >= lo * U_peak))
-        i1 = int(np.argmax(head >= hi * U_peak))
-        if i1 - i0 < 2:
-            raise ValueError(
-                f"window=({lo}, {hi}) holds fewer than 3 samples: refine dt or widen the window"
-            )
-        slope, intercept = np.polyfit(t[i0 : i1 + 1], sign * U[i0 : i1 + 1], 1)
-        return -intercept / slope, slope * sign, intercept * sign
-
-    t_c, slope, intercept = fit(*window)
-    var = {tuple(v): fit(*v)[0] for v in variations}
-    unc = max((abs(v - t_c) for v in var.values()), default=0.0)
-    a = run.params.get("a")
-    if a is not None and run.history is None:
-        kappa3 = run.params["kappa0"] + a * t_c
-    else:
-        kappa3 = run.end_twist(t_c)
-    if a is not None:
-        unc_k = abs(a) * unc
-    else:
-        unc_k = max((abs(run.end_twist(v) - kappa3) for v in var.values()), default=0.0)
-    return Onset(
-        t_c=float(t_c),
-        kappa3=float(kappa3),
-        uncertainty_t=float(unc),
-        uncertainty_kappa3=float(unc_k),
-        slope=float(slope),
-        intercept=float(intercept),
-        window=tuple(window),
-        variations={k: float(v) for k, v in var.items()},
-        t_ref=t_ref,
-        u_ref=float(u_ref),
-    )
-
-
-# ================================================================= the delay law
-@dataclass(frozen=True)
-class PowerLawFit:
-    """Least-squares fit of eq (33): kappa3 = kappa_cri + (b / L) (a L / c)^sigma.
-
-    ``*_err`` are standard errors from the fit covariance (0 for a fixed
-    kappa_cri); ``bootstrap`` holds (low, high) percentile intervals at
-    ``confidence`` from refits of ``n_boot`` resamples (pairs drawn with
-    replacement; ``n_boot_failed`` refits that did not converge are dropped).
-    """
-
-    b: float
-    sigma: float
-    kappa_cri: float
-    b_err: float
-    sigma_err: float
-    kappa_cri_err: float
-    kappa_cri_free: bool
-    covariance: np.ndarray
-    bootstrap: dict[str, tuple[float, float]]
-    confidence: float
-    n_boot: int
-    n_boot_failed: int
-    residual_rms: float
-    n_points: int
-    rod: Rod
-
-    def kappa3(self, a: float | np.ndarray, rod: Rod | None = None) -> float | np.ndarray:
-        """The fitted critical twist at loading rate ``a`` (L and c of ``rod``, default
-        the fitted rod's: eq 33 carries the density only through c)."""
-        rod = self.rod if rod is None else rod
-        return self.kappa_cri + self.b / rod.L * (np.asarray(a) * rod.L / rod.c) ** self.sigma
-
-    def time_to_buckle(self, a: float, kappa0: float = 0.0, rod: Rod | None = None) -> float:
-        """(kappa3(a) - kappa0) / a: the paper's 'time until buckling' (20.11 s and
-        25.45 s for Figs 8 and 9)."""
-        return float((self.kappa3(a, rod) - kappa0) / a)
-
-
-def _power_law(x: np.ndarray, kc: float, b_over_L: float, sigma: float) -> np.ndarray:
-    return kc + b_over_L * x**sigma
-
-
-def _numbers(name: str, values) -> np.ndarray:
-    try:
-        return np.asarray(values, dtype=float)
-    except (TypeError, ValueError) as err:
-        raise ValueError(f"{name} must be numbers ({err})") from None
-
-
-def _determined(a: np.ndarray, k: np.ndarray, kappa_cri: float | None, n_par: int) -> None:
-    """Refuse data that cannot determine eq (33), naming the reason."""
-    rates = np.unique(a)
-    if rates.size < n_par:
-        raise ValueError(
-            f"a holds {rates.size} distinct rate(s); fitting {n_par} parameters needs at least "
-            f"{n_par} (eq 33 is a law in the rate)"
-        )
-    if kappa_cri is None:
-        if np.ptp(k) == 0:
-            raise ValueError("kappa3 is the same at every rate: sigma and b are undetermined")
-        return
-    if not (
-        isinstance(kappa_cri, int | float | np.integer | np.floating) and math.isfinite(kappa_cri)
-    ):
-        raise ValueError(f"kappa_cri={kappa_cri!r} must be a finite number, 'static' or None")
-    below = k <= kappa_cri
-    if np.any(below):
-        raise ValueError(
-            f"{int(below.sum())} of {k.size} kappa3 value(s) lie at or below kappa_cri = "
-            f"{kappa_cri:.6g} (min {k.min():.6g}): eq (33) needs kappa3 > kappa_cri; fit only "
-            'onsets with status "buckled" (a forced onset precedes the critical twist)'
-        )
-
-
-def fit_power_law(
-    a: Sequence[float],
-    kappa3: Sequence[float],
-    rod: Rod | None = None,
-    *,
-    kappa_cri: float | str | None = "static",
-    uncertainty: Sequence[float] | None = None,
-    n_boot: int = 2000,
-    confidence: float = 0.95,
-    seed: int = 0,
-) -> PowerLawFit:
-    """Fit eq (33) to critical twists ``kappa3`` measured at loading rates ``a``.
-
-    ``kappa_cri="static"`` fixes kappa_cri at eq (32) for ``rod`` (the paper's
-    fit); a number fixes it there; ``None`` fits it too (the extrapolation to
-    a = 0 that the paper checks against eq 32).  Unweighted least squares in
-    kappa3, as the paper; ``uncertainty`` (one standard deviation per point)
-    weights the points instead.  ``seed`` fixes the bootstrap's resampling.
-    """
-    import scipy.optimize
-
-    rod = Rod.paper() if rod is None else rod
-    a, k = _numbers("a", a), _numbers("kappa3", kappa3)
-    if a.ndim != 1 or a.shape != k.shape:
-        raise ValueError(f"a and kappa3 must be 1-D of one length (got {a.shape}, {k.shape})")
-    if not (np.all(np.isfinite(a)) and np.all(np.isfinite(k))):
-        raise ValueError("a and kappa3 must be finite (drop scenes without an onset)")
-    if np.any(a <= 0):
-        raise ValueError(f"a must be > 0 (got min {a.min()!r})")
-    free = kappa_cri is None
-    if isinstance(kappa_cri, str):
-        if kappa_cri != "static":
-            raise ValueError(f"kappa_cri={kappa_cri!r}; allowed: 'static', a number, None")
-        kappa_cri = critical_twist(rod)
-    n_par = 3 if free else 2
-    if a.size < n_par + 1:
-        raise ValueError(
-            f"need at least {n_par + 1} points to fit {n_par} parameters (got {a.size})"
-        )
-    _determined(a, k, kappa_cri, n_par)
-    if not 0 < confidence < 1:
-        raise ValueError(f"confidence={confidence!r} must lie in (0, 1)")
-    if not isinstance(n_boot, int) or n_boot < 0:
-        raise ValueError(f"n_boot={n_boot!r} must be an integer >= 0")
-    w = None
-    if uncertainty is not None:
-        w = np.asarray(uncertainty, dtype=float)
-        if w.shape != a.shape or not np.all(w > 0):
-            raise ValueError("uncertainty must be one positive number per point")
-    x = a * rod.L / rod.c
-
-    def solve(xs: np.ndarray, ks: np.ndarray, ws: np.ndarray | None, quiet: bool = False):
-        kc0 = float(kappa_cri) if not free else float(ks.min()) - 0.1 * float(np.ptp(ks))
-        dk = np.maximum(ks - kc0, 1e-12 * max(1.0, abs(kc0)))
-        sig0, logb0 = np.polyfit(np.log(xs), np.log(dk), 1)
-        if free:
-            f, p0 = _power_law, [kc0, math.exp(logb0), sig0]
-        else:
-
-            def f(xx, bl, sg):
-                return _power_law(xx, kappa_cri, bl, sg)
-
-            p0 = [math.exp(logb0), sig0]
-        with np.errstate(all="ignore"), warnings.catch_warnings():
-            if quiet:
-                warnings.simplefilter("ignore", scipy.optimize.OptimizeWarning)
-            p, cov = scipy.optimize.curve_fit(
-                f, xs, ks, p0=p0, sigma=ws, absolute_sigma=ws is not None, maxfev=20000
-            )
-        return (p if free else np.r_[kappa_cri, p]), cov, f
-
-    with warnings.catch_warnings():
-        warnings.simplefilter("error", scipy.optimize.OptimizeWarning)
-        try:
-            p, cov, f = solve(x, k, w)
-        except (RuntimeError, scipy.optimize.OptimizeWarning) as err:
-            raise ValueError(f"the data cannot determine eq (33): the fit failed ({err})") from None
-    if not (np.all(np.isfinite(p)) and np.all(np.isfinite(cov))):
-        raise ValueError(
-            "the data cannot determine eq (33): the fitted parameters or their covariance "
-            "are not finite (add rates, or fix kappa_cri)"
-        )
-    kc, bl, sg = (float(v) for v in p)
-    err = (
-        np.sqrt(np.clip(np.diag(cov), 0, None))
-        if np.all(np.isfinite(cov))
-        else np.full(n_par, np.nan)
-    )
-    if not free:
-        err = np.r_[0.0, err]
-    resid = k - _power_law(x, kc, bl, sg)
-
-    rng = np.random.default_rng(seed)
-    samples, failed = [], 0
-    for _ in range(n_boot):
-        idx = rng.integers(0, a.size, a.size)
-        if np.unique(x[idx]).size < n_par:
-            failed += 1
-            continue
-        try:
-            pb, _, _ = solve(x[idx], k[idx], None if w is None else w[idx], quiet=True)
-        except (RuntimeError, ValueError, np.linalg.LinAlgError):
-            failed += 1
-            continue
-        samples.append(pb)
-    lo, hi = 50 * (1 - confidence), 50 * (1 + confidence)
-    boot: dict[str, tuple[float, float]] = {}
-    if samples:
-        S = np.array(samples)
-        S[:, 1] *= rod.L
-        names = ("kappa_cri", "b", "sigma") if free else ("b", "sigma")
-        cols = (0, 1, 2) if free else (1, 2)
-        for name, c in zip(names, cols, strict=True):
-            boot[name] = (float(np.percentile(S[:, c], lo)), float(np.percentile(S[:, c], hi)))
-    return PowerLawFit(
-        b=bl * rod.L,
-        sigma=sg,
-        kappa_cri=kc,
-        b_err=float(err[1]) * rod.L,
-        sigma_err=float(err[2]),
-        kappa_cri_err=float(err[0]),
-        kappa_cri_free=free,
-        covariance=cov,
-        bootstrap=boot,
-        confidence=confidence,
-        n_boot=n_boot,
-        n_boot_failed=failed,
-        residual_rms=float(np.sqrt(np.mean(resid**2))),
-        n_points=int(a.size),
-        rod=rod,
     )

@@ -17,6 +17,7 @@ from . import __version__
 from .buckling import fit_power_law
 from .cli_options import add_scene_options, parse_rates, scene_from
 from .faults import EXIT_INTERRUPTED, describe
+from .published import value
 from .results import ON_STALE, Store
 from .sweep import (
     KIND,
@@ -111,7 +112,7 @@ def _print_fit(rows: list[dict]) -> None:
                 f"fit {name} {tag}: b = {f.b:.2f} +- {f.b_err:.2f}, "
                 f"sigma = {f.sigma:.4f} +- {f.sigma_err:.4f}, "
                 f"kappa_cri = {f.kappa_cri:.4f} +- {f.kappa_cri_err:.4f} "
-                "(paper, Table 1 rod: b = 160.60, sigma = 0.5680)"
+                f"(paper, Table 1 rod: b = {value('b'):.2f}, sigma = {value('sigma'):.4f})"
             )
 
 

@@ -1,5 +1,5 @@
 """Command-line options that describe a scene (rod, section, load, history, ends,
-seed, grid, scheme) and their translation into a :class:`~dyntorsion.sweep.Scene`."""
+seed, grid, scheme) and their translation into a :class:`~dyntorsion.scene.Scene`."""
 
 from __future__ import annotations
 
@@ -158,7 +158,7 @@ def history_from(args: argparse.Namespace, a: float | None) -> dict:
 
 
 def scene_from(args: argparse.Namespace, a: float | None) -> Scene:
-    """The :class:`~dyntorsion.sweep.Scene` the options describe, at the loading rate ``a``
+    """The :class:`~dyntorsion.scene.Scene` the options describe, at the loading rate ``a``
     (the grid of ``--fidelity`` scaled to the rod; ``--control`` adds step-size control)."""
     rod = rod_from(args)
     seed = Perturbation(magnitude=args.seed, form=args.seed_form, location=args.seed_location)

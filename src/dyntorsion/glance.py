@@ -9,7 +9,6 @@ saves the table as ``paper/numbers.json``.
 
 from __future__ import annotations
 
-import json
 import math
 import os
 from pathlib import Path
@@ -19,6 +18,7 @@ import pandas as pd
 
 from . import __version__
 from .buckling import critical_twist, fit_power_law, m_cri
+from .published import PAPER, published
 from .results import write_json
 from .rod import Rod
 from .sweep import cached
@@ -67,14 +67,6 @@ FIGURE_PAGE: dict[str, str] = {
     "law_fig9": "figures/fig09.md",
     "kappa_cri_extrapolated": "figures/fig10.md",
 }
-
-PAPER = Path(__file__).resolve().parents[2] / "paper"
-
-
-def published(path: str | os.PathLike[str] | None = None) -> dict[str, dict[str, Any]]:
-    """The paper's stated values by id (``paper/published.json``)."""
-    data = json.loads(Path(path or PAPER / "published.json").read_text())
-    return {v["id"]: v for v in data["values"]}
 
 
 def ours() -> dict[str, list[tuple[str, float, str]]]:
@@ -197,6 +189,7 @@ def compact(prefix: str = "") -> pd.DataFrame:
         symbol, unit = SYMBOL[r["id"]]
         digits = pub[r["id"]]["digits"]
         rel = 100 * r["relative difference"]
+        page = FIGURE_PAGE[r["id"]]
         rows.append(
             {
                 "quantity": symbol,
@@ -209,7 +202,7 @@ def compact(prefix: str = "") -> pd.DataFrame:
                 "ours": sig(r["ours"], digits),
                 "difference": "0 %" if abs(rel) < 5e-3 else f"{float(f'{rel:.2g}'):+g} %",
                 "verdict": r["verdict"],
-                "evidence": f"[{_label(FIGURE_PAGE[r['id']])}]({prefix}{FIGURE_PAGE[r['id']]})",
+                "evidence": f"[{_label(page)}]({prefix}{page})",
             }
         )
     return pd.DataFrame(rows)

@@ -1,6 +1,6 @@
 """Cached linear predictions of the buckling scenes' onsets (beyond the paper).
 
-A :class:`Prediction` is one :class:`~dyntorsion.sweep.Scene` run through the slow
+A :class:`Prediction` is one :class:`~dyntorsion.scene.Scene` run through the slow
 passage of :meth:`~dyntorsion.linear_stability.LateralModel.passage` (eq L2 of
 :mod:`dyntorsion.linear_stability`); :func:`predict` caches them in ``data/`` like
 the simulated scenes, and the presets mirror the sweeps they explain.
@@ -36,7 +36,7 @@ __all__ = [
     "estimate",
 ]
 
-#: record kind of a cached linear prediction (its code fingerprint: results.KIND_ROOTS)
+#: record kind of a cached linear prediction (its code fingerprint: fingerprint.KIND_ROOTS)
 KIND = "linear-onset"
 
 
@@ -44,7 +44,7 @@ KIND = "linear-onset"
 class Prediction:
     """The linear prediction of one buckling scene's onset.
 
-    ``scene`` (a :class:`~dyntorsion.sweep.Scene`) gives the rod, the rate, the
+    ``scene`` (a :class:`~dyntorsion.scene.Scene`) gives the rod, the rate, the
     pretwist and the seed; its grid, scheme and Newton options play no part.  The
     other fields are the options of :class:`LateralModel` and
     :meth:`LateralModel.passage`.

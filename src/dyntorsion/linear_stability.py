@@ -42,7 +42,7 @@ f = magnitude (e1 + i e2) exp(i theta(s, t)), theta the angle of d1 (d1(L) = e1)
 
 :meth:`LateralModel.passage` integrates (L2) from rest and returns the time at
 which the end-shortening speed ``|u3(L, t)| = |d/dt int |w'|^2 / 2 ds|`` first reaches
-the onset detector's level u_ref (:func:`~dyntorsion.buckling.detect_onset`): a
+the onset detector's level u_ref (:func:`~dyntorsion.onset.detect_onset`): a
 prediction of the buckling time with no fitted parameter.
 """
 

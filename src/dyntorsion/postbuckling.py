@@ -4,12 +4,12 @@ A Newton failure of the buckling scene has three different causes, and each gets
 own message:
 
 * ill-posed end conditions -- refused before the first step
-  (:class:`~dyntorsion.loading.IllPosedEndsError`, raised by
-  :class:`~dyntorsion.loading.Ends`);
+  (:class:`~dyntorsion.end_conditions.IllPosedEndsError`, raised by
+  :class:`~dyntorsion.end_conditions.Ends`);
 * a time step far too large for the rod -- the failure comes in the first steps,
   before the rod has moved off the straight state (:class:`GridTooCoarseError`);
 * the whip after buckling -- the failure comes after |u3(L, t)| has passed the onset
-  level u_ref = L / T0 of :func:`~dyntorsion.buckling.detect_onset`
+  level u_ref = L / T0 of :func:`~dyntorsion.onset.detect_onset`
   (:class:`PostBucklingError`); with step-size control
   (:class:`~dyntorsion.genalpha.StepControl`) it is raised only at dt_min.
 """
@@ -96,7 +96,7 @@ def diagnose(
 class ContactMeasures:
     """The buckled rod at self-contact (the paper has none of these).
 
-    ``time_to_contact`` = t_contact - t_c (t_c of :func:`~dyntorsion.buckling.detect_onset`),
+    ``time_to_contact`` = t_contact - t_c (t_c of :func:`~dyntorsion.onset.detect_onset`),
     ``twist`` the end twist kappa3(0, t_contact), ``max_curvature`` the largest bending
     curvature sqrt(k1^2 + k2^2) along the rod, ``width`` the :func:`localisation_width`
     of the bending energy (as a fraction of L).

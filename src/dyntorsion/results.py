@@ -10,7 +10,7 @@ parameters::
 
 ``params`` holds everything the numbers depend on (rod, loading, seed, grid,
 scheme, Newton options, onset window); ``provenance.code`` is a fingerprint of
-the code that computes them (:func:`code_fingerprint`).  Records are written
+the code that computes them (:func:`~dyntorsion.fingerprint.code_fingerprint`).  Records are written
 atomically (a temporary file in the same folder, then ``os.replace``), so a
 killed run leaves either the whole record or none.
 
@@ -24,47 +24,23 @@ takes it anyway (``"accept"``, for reading old data on purpose).
 
 from __future__ import annotations
 
-import ast
 import datetime as _dt
 import hashlib
-import importlib
-import inspect
 import json
 import math
 import os
 import platform
 import tempfile
-import textwrap
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
-from functools import cache
 from pathlib import Path
 from typing import Any
 
+from .fingerprint import code_of
 from .leases import TMP_SUFFIX, Lease, _owner, acquire_lease, clean_leftovers
 
 SCHEMA = 1
 
-#: where the computation of each record kind starts: its fingerprint covers every
-#: function, class and module-level definition of the package reachable from these
-#: (``module:object`` or a whole ``module``), found by walking the code itself
-KIND_ROOTS: dict[str, tuple[str, ...]] = {
-    "buckling-onset": (
-        "dyntorsion.sweep:run_scene",
-        "dyntorsion.sweep:Scene",
-        "dyntorsion.loading",
-    ),
-    "linear-onset": (
-        "dyntorsion.linear_predictions:run_prediction",
-        "dyntorsion.linear_predictions:Prediction",
-        "dyntorsion.sweep:Scene",
-        "dyntorsion.loading",
-    ),
-    "onset-trace": ("dyntorsion.traces:compare", "dyntorsion.sweep:Scene", "dyntorsion.loading"),
-}
-#: the roots of records of any other kind
-DEFAULT_ROOTS = KIND_ROOTS["buckling-onset"]
-PACKAGE = "dyntorsion"
 
 ON_STALE = ("recompute", "error", "accept")
 
@@ -75,167 +51,6 @@ class StaleResultError(RuntimeError):
 
 class CorruptResultError(RuntimeError):
     """A cached record whose content hash does not match its content."""
-
-
-# ----------------------------------------------------------------- hashing
-def _strip_docstrings(tree: ast.AST) -> ast.AST:
-    for node in ast.walk(tree):
-        body = getattr(node, "body", None)
-        if (
-            isinstance(body, list)
-            and body
-            and isinstance(body[0], ast.Expr)
-            and isinstance(body[0].value, ast.Constant)
-            and isinstance(body[0].value.value, str)
-        ):
-            node.body = body[1:] or [ast.Pass()]
-    return tree
-
-
-def _tree(source: str) -> ast.Module:
-    """Syntax tree without docstrings, imports sorted (a linter's reordering is no change)."""
-    tree = _strip_docstrings(ast.parse(textwrap.dedent(source)))
-    imports = [n for n in tree.body if isinstance(n, ast.Import | ast.ImportFrom)]
-    rest = [n for n in tree.body if not isinstance(n, ast.Import | ast.ImportFrom)]
-    tree.body = sorted(imports, key=ast.dump) + rest
-    return tree
-
-
-def _source_digest(target: str) -> str:
-    """Digest of one ``module`` or ``module:object`` alone (docstrings, comments and
-    import order do not count)."""
-    module_name, _, attr = target.partition(":")
-    obj = importlib.import_module(module_name)
-    if attr:
-        obj = getattr(obj, attr)
-    return hashlib.sha256(ast.dump(_tree(inspect.getsource(obj))).encode()).hexdigest()
-
-
-def _unwrap(obj: Any) -> Any:
-    """The Python function behind a compiled (numba) or wrapped one."""
-    for attr in ("py_func", "__wrapped__", "__func__"):
-        while hasattr(obj, attr):
-            obj = getattr(obj, attr)
-    return obj
-
-
-def _ours(obj: Any) -> bool:
-    name = getattr(obj, "__name__", "") if inspect.ismodule(obj) else getattr(obj, "__module__", "")
-    return isinstance(name, str) and (name == PACKAGE or name.startswith(PACKAGE + "."))
-
-
-def _qualname(obj: Any) -> str:
-    if inspect.ismodule(obj):
-        return obj.__name__
-    return f"{obj.__module__}:{obj.__qualname__}"
-
-
-def _assignment(module: Any, name: str) -> str | None:
-    """Source of the module-level statement(s) that bind ``name`` in ``module``."""
-    tree = _module_tree(module.__name__)
-    found = []
-    for node in tree.body:
-        targets = []
-        if isinstance(node, ast.Assign):
-            targets = node.targets
-        elif isinstance(node, ast.AnnAssign | ast.AugAssign):
-            targets = [node.target]
-        names = {n.id for t in targets for n in ast.walk(t) if isinstance(n, ast.Name)}
-        if name in names:
-            found.append(ast.unparse(node))
-    return "\n".join(found) or None
-
-
-@cache
-def _module_tree(name: str) -> ast.Module:
-    return ast.parse(inspect.getsource(importlib.import_module(name)))
-
-
-def _resolve(node: ast.AST, namespace: Mapping[str, Any]) -> Any:
-    if isinstance(node, ast.Name):
-        return namespace.get(node.id, _MISSING)
-    if isinstance(node, ast.Attribute):
-        base = _resolve(node.value, namespace)
-        if base is _MISSING:
-            return _MISSING
-        try:
-            return inspect.getattr_static(base, node.attr)
-        except AttributeError:
-            return _MISSING
-    return _MISSING
-
-
-_MISSING = object()
-
-
-def reachable(roots: tuple[str, ...] = DEFAULT_ROOTS, source=inspect.getsource) -> dict[str, str]:
-    """Every definition of the package that the code of ``roots`` can reach, each with
-    its source (``qualified name -> source``): functions, classes (with their methods),
-    compiled kernels (their Python source) and module-level assignments, following
-    names and attribute chains through the modules' namespaces."""
-    todo: list[Any] = []
-    for target in roots:
-        module_name, _, attr = target.partition(":")
-        obj = importlib.import_module(module_name)
-        todo.append(getattr(obj, attr) if attr else obj)
-    seen: dict[str, str] = {}
-    while todo:
-        obj = _unwrap(todo.pop())
-        if isinstance(obj, tuple):  # a module-level assignment: (module, name)
-            module, name = obj
-            key_ = f"{module.__name__}:{name}="
-            if key_ in seen:
-                continue
-            text = _assignment(module, name)
-            if text is None:
-                continue
-            seen[key_] = text
-            namespace = vars(module)
-        else:
-            if isinstance(obj, property):
-                obj = obj.fget
-            if not (inspect.ismodule(obj) or inspect.isclass(obj) or inspect.isfunction(obj)):
-                continue
-            if not _ours(obj):
-                continue
-            key_ = _qualname(obj)
-            if key_ in seen:
-                continue
-            seen[key_] = text = source(obj)
-            module = obj if inspect.ismodule(obj) else importlib.import_module(obj.__module__)
-            namespace = vars(module)
-        for node in ast.walk(ast.parse(textwrap.dedent(text))):
-            if not isinstance(node, ast.Name | ast.Attribute):
-                continue
-            found = _resolve(node, namespace)
-            if found is _MISSING:
-                continue
-            found = _unwrap(found)
-            if inspect.isfunction(found) or inspect.isclass(found) or isinstance(found, property):
-                todo.append(found)
-            elif inspect.ismodule(found):
-                continue  # a module is followed only through the attributes used
-            elif isinstance(node, ast.Name) and node.id in namespace:
-                todo.append((module, node.id))
-    return seen
-
-
-@cache
-def code_fingerprint(roots: tuple[str, ...] = DEFAULT_ROOTS) -> str:
-    """Hash of the code that computes cached results: the syntax trees of everything
-    :func:`reachable` from ``roots``, with docstrings and comments removed and imports
-    sorted, so documentation edits, formatting and import sorting do not invalidate
-    data, while an edit of any function on the path does."""
-    return fingerprint_of(reachable(roots))
-
-
-def fingerprint_of(sources: Mapping[str, str]) -> str:
-    """Combine the sources of :func:`reachable` into the 16-digit fingerprint."""
-    h = hashlib.sha256()
-    for name in sorted(sources):
-        digest_ = hashlib.sha256(ast.dump(_tree(sources[name])).encode()).hexdigest()
-        h.update(f"{name}={digest_};".encode())
-    return h.hexdigest()[:16]
 
 
 def _plain(obj: Any, where: str = "") -> Any:
@@ -264,11 +79,6 @@ def digest(obj: Any) -> str:
 def key(kind: str, params: Mapping[str, Any]) -> str:
     """File name stem of a record: 20 hex digits of the hash of (kind, params)."""
     return digest({"kind": kind, "params": params})[:20]
-
-
-def code_of(kind: str | None) -> str:
-    """The code fingerprint that records of ``kind`` carry (see :data:`KIND_ROOTS`)."""
-    return code_fingerprint(KIND_ROOTS.get(kind, DEFAULT_ROOTS))
 
 
 def provenance(wall_time: float | None = None, kind: str | None = None) -> dict[str, Any]:

@@ -15,6 +15,8 @@ Both use Rodrigues' formula (eq 20) for the exponential.
 
 from __future__ import annotations
 
+from functools import lru_cache
+
 import numpy as np
 
 __all__ = [
@@ -126,21 +128,41 @@ def _segment_distances(p0, p1, q0, q1):
     return np.sqrt(np.einsum("ij,ij->i", diff, diff))
 
 
+@lru_cache(maxsize=16)
+def _all_pairs(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Index pairs i < j - 1 of n segments (never adjacent), computed once per n."""
+    i, j = np.triu_indices(n, k=2)
+    i.setflags(write=False)
+    j.setflags(write=False)
+    return i, j
+
+
+def _candidate_pairs(arc, r, seg, diameter, min_arc, reach):
+    """Segment pairs (i, j) more than ``min_arc`` of arc length apart (``arc`` measured
+    along the rod) whose midpoints in ``r`` lie within ``reach`` x (seg_i + seg_j) +
+    ``diameter``: the only pairs that can touch or cross."""
+    i, j = _all_pairs(seg.size)
+    keep = arc[j] - arc[i + 1] > (2 * diameter if min_arc is None else min_arc)
+    i, j = i[keep], j[keep]
+    mid = 0.5 * (r[1:] + r[:-1])
+    near = np.linalg.norm(mid[i] - mid[j], axis=1) < reach * (seg[i] + seg[j]) + diameter
+    return i[near], j[near]
+
+
+def _segments(r):
+    """(r, segment vectors, segment lengths, arc length at the nodes) of a centreline."""
+    r = np.asarray(r, dtype=float)
+    d = np.diff(r, axis=0)
+    seg = np.linalg.norm(d, axis=1)
+    return r, d, seg, np.concatenate([[0.0], np.cumsum(seg)])
+
+
 def self_contact(r: np.ndarray, diameter: float, min_arc: float | None = None):
     """(distance, i, j) of the closest pair of segments i, j of the centreline r whose
     arc-length separation exceeds ``min_arc`` (default 2 diameters, and never
     adjacent segments), or None when no pair comes within ``diameter``."""
-    r = np.asarray(r, dtype=float)
-    n = r.shape[0] - 1
-    seg_len = np.linalg.norm(np.diff(r, axis=0), axis=1)
-    arc = np.concatenate([[0.0], np.cumsum(seg_len)])
-    min_arc = 2 * diameter if min_arc is None else min_arc
-    i, j = np.triu_indices(n, k=2)
-    keep = arc[j] - arc[i + 1] > min_arc
-    i, j = i[keep], j[keep]
-    mid = 0.5 * (r[1:] + r[:-1])
-    near = np.linalg.norm(mid[i] - mid[j], axis=1) < 0.5 * (seg_len[i] + seg_len[j]) + diameter
-    i, j = i[near], j[near]
+    r, _, seg, arc = _segments(r)
+    i, j = _candidate_pairs(arc, r, seg, diameter, min_arc, reach=0.5)
     if i.size == 0:
         return None
     d = _segment_distances(r[i], r[i + 1], r[j], r[j + 1])
@@ -159,24 +181,9 @@ def crossing(r_old: np.ndarray, r_new: np.ndarray, diameter: float, min_arc: flo
     those lines are closer than a segment length -- and the signed distance of the
     lines along d_i x d_j changes sign.  Every quantity is taken within one state, so a
     rigid motion of the whole rod between the states does not matter."""
-
-    def lines(r):
-        r = np.asarray(r, dtype=float)
-        n = r.shape[0] - 1
-        d = np.diff(r, axis=0)
-        seg = np.linalg.norm(d, axis=1)
-        arc = np.concatenate([[0.0], np.cumsum(seg)])
-        return r, n, d, seg, arc
-
-    r0, n, d0, seg0, arc0 = lines(r_old)
-    r1, _, d1, seg1, _ = lines(r_new)
-    min_arc = 2 * diameter if min_arc is None else min_arc
-    i, j = np.triu_indices(n, k=2)
-    keep = arc0[j] - arc0[i + 1] > min_arc
-    i, j = i[keep], j[keep]
-    m1 = 0.5 * (r1[1:] + r1[:-1])
-    near = np.linalg.norm(m1[i] - m1[j], axis=1) < 2 * (seg1[i] + seg1[j]) + diameter
-    i, j = i[near], j[near]
+    r0, d0, seg0, arc0 = _segments(r_old)
+    r1, d1, seg1, _ = _segments(r_new)
+    i, j = _candidate_pairs(arc0, r1, seg1, diameter, min_arc, reach=2.0)
     if i.size == 0:
         return None
     signs = []

@@ -1,6 +1,6 @@
 """The end-shortening speed u3(L, t) of a buckling scene, simulated and linear, side by side.
 
-The onset detector (:func:`~dyntorsion.buckling.detect_onset`) and the linear
+The onset detector (:func:`~dyntorsion.onset.detect_onset`) and the linear
 prediction (:mod:`~dyntorsion.linear_stability`) meet at one number, the time
 ``|u3(L, t)|`` reaches u_ref.  A trace comparison shows the whole approach: how long the
 simulated rod follows the linear growth, and where it departs.  Records of kind

@@ -12,6 +12,7 @@ import numpy as np
 
 __all__ = [
     "BudgetError",
+    "StepLongerThanRunError",
     "real",
     "check_time_grid",
     "check_memory",
@@ -29,6 +30,10 @@ DT_MIN = 1e-15
 class BudgetError(ValueError):
     """A computation refused before it starts because its estimated work or memory
     exceeds the budget; the message gives the estimate and how to lower it."""
+
+
+class StepLongerThanRunError(ValueError):
+    """A time step longer than the whole run (dt > t_end - t0): refused before a step."""
 
 
 def _real(value) -> bool:
@@ -61,7 +66,7 @@ def check_time_grid(
         raise ValueError(f"t_end={t_end!r} must be a finite number > t0={t0!r} [s]")
     dt, t_end, t0 = float(dt), float(t_end), float(t0)
     if dt > t_end - t0:
-        raise ValueError(
+        raise StepLongerThanRunError(
             f"dt={dt!r} exceeds the run's length t_end - t0 = {t_end - t0!r}: allowed 0 < dt <= "
             "t_end - t0 (the run would step past t_end)"
         )

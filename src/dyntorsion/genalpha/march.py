@@ -62,7 +62,9 @@ def march(F, dF, con, w, fac, opts, forcing, rec, stats):
     use_qf = qf.shape[0] > 0
     nsteps = forcing.gL.shape[0] - 1
     nrec = 0
-    retry = NewtonOptions(opts.tol, opts.max_iter, opts.lam_min, opts.theta_reuse, False, rate)
+    retry = NewtonOptions(
+        opts.tol, opts.max_iter, opts.lam_min, opts.theta_reuse, False, rate, opts.contraction
+    )
     out = Outcome(_CONVERGED, 0, 0, 0, 0.0)
     for k in range(nsteps):
         if use_qf:

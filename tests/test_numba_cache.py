@@ -1,0 +1,40 @@
+"""The kernels' disk cache follows the sources of every kernel, not just its own file."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from dyntorsion import _numba
+from dyntorsion.genalpha import march
+
+
+def _package(root: Path) -> None:
+    (root / "callee.py").write_text("from ._numba import jit\n\n\n@jit\ndef f(x):\n    return x\n")
+    (root / "caller.py").write_text(
+        "from ._numba import jit\nfrom .callee import f\n\n\n@jit\ndef g(x):\n    return f(x)\n"
+    )
+    (root / "plain.py").write_text("def h(x):\n    return x\n")
+
+
+def test_editing_a_callee_changes_the_cache_folder_of_every_kernel(tmp_path):
+    _package(tmp_path)
+    before = _numba.kernel_sources_digest(tmp_path)
+    assert _numba.kernel_sources_digest(tmp_path) == before
+    (tmp_path / "callee.py").write_text(
+        "from ._numba import jit\n\n\n@jit\ndef f(x):\n    return 2 * x\n"
+    )
+    assert _numba.kernel_sources_digest(tmp_path) != before
+
+
+def test_a_module_without_kernels_does_not_move_the_cache(tmp_path):
+    _package(tmp_path)
+    before = _numba.kernel_sources_digest(tmp_path)
+    (tmp_path / "plain.py").write_text("def h(x):\n    return 3 * x\n")
+    assert _numba.kernel_sources_digest(tmp_path) == before
+
+
+def test_the_package_kernels_are_cached_under_the_digest():
+    locator = _numba.SourceKeyedLocator.from_function(march.march.py_func, march.__file__)
+    assert locator is not None
+    assert f"numba-{_numba.kernel_sources_digest()}" in locator.get_cache_path()
+    assert _numba.SourceKeyedLocator.from_function(len, __file__) is None  # not ours
