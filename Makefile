@@ -51,6 +51,7 @@ data: $(VENV)/.test-installed
 	$(BIN)/dyntorsion sweep $(foreach p,$(DATA_PRESETS),--preset $(p)) --jobs $(JOBS)
 	$(BIN)/dyntorsion linear $(foreach p,$(LINEAR_PRESETS),--preset $(p)) --jobs $(JOBS) --quiet
 	$(PY) -m dyntorsion.traces
+	$(PY) -m dyntorsion.consistency --jobs $(JOBS)
 
 ## site-check: open every page of the quick build (made by `make test`; built here when
 ## missing), or of SITE=docs/_build/html after `make docs`, in headless Chromium: fails on

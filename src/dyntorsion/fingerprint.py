@@ -47,6 +47,12 @@ KIND_ROOTS: dict[str, tuple[str, ...]] = {
         "dyntorsion.loading",
         "dyntorsion.end_conditions",
     ),
+    "onset-rules": (
+        "dyntorsion.onset_rules:run_rules",
+        "dyntorsion.scene:Scene",
+        "dyntorsion.loading",
+        "dyntorsion.end_conditions",
+    ),
     "onset-trace": (
         "dyntorsion.traces:compare",
         "dyntorsion.scene:Scene",
