@@ -130,3 +130,22 @@ def test_verdict_by_id():
     paper = glance.published()["fig8_tc"]["value"]
     assert glance.verdict("fig8_tc", paper) == "agrees to the digits stated"
     assert glance.verdict("fig8_tc", 0.7 * paper) == "differs"
+
+
+def test_the_closest_consistency_cell_is_a_variant(table):
+    """The consistency map's closest cell (issue 19) is a row for each dynamic number it
+    gives; its Fig 8 onset agrees by construction (the seed is interpolated to it)."""
+    rows = table[table["variant"].str.startswith(glance.CLOSEST)].set_index("id")
+    assert set(rows.index) == {
+        "fig8_tc",
+        "fig8_kappa3",
+        "b",
+        "sigma",
+        "law_fig8",
+        "law_fig9",
+        "kappa_cri_extrapolated",
+    }
+    assert rows.loc["fig8_tc", "verdict"] == "agrees to the digits stated"
+    assert rows.loc["sigma", "verdict"] != "agrees to the digits stated"
+    compact = glance.compact()
+    assert compact["evidence"].str.contains(glance.CLOSEST_PAGE, regex=False).sum() == len(rows)
