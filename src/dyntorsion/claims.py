@@ -17,9 +17,10 @@ ladder rates.  Each claim gets a misfit ``m`` (<= 1: the claim holds in that cel
 * m1 = |t_c(Fig 8) - 20.86| / (:data:`STATED` + the grid error of the direct run);
 * m2 = the larger relative gap |law - direct| / direct of Figs 8 and 9, over
   :data:`GOOD_AGREEMENT`;
-* m3 = sqrt(d2 / chi2), d2 the Mahalanobis distance of the paper's (b / L, sigma) from
-  the fitted pair under the fit's covariance, chi2 = :data:`CHI2_95` (the paper's pair
-  inside the fit's 95 % confidence ellipse);
+* m3 = sqrt(d2 / (2 F)), d2 the Mahalanobis distance of the paper's (b / L, sigma) from
+  the fitted pair under the fit's covariance (scaled by the residuals) and F the
+  :data:`LEVEL` quantile of the F distribution with 2 and n - 2 degrees of freedom (the
+  paper's pair inside the fit's 95 % joint confidence region, :func:`region_quantile`);
 * m4 = |kappa_cri(free fit) - kappa_cri| / (:data:`GOOD_AGREEMENT` kappa_cri).
 
 "Good agreement" is not quantified in the paper; :data:`GOOD_AGREEMENT` = 5 % is the
@@ -43,7 +44,8 @@ from .statics import critical_twist
 __all__ = [
     "GOOD_AGREEMENT",
     "STATED",
-    "CHI2_95",
+    "LEVEL",
+    "region_quantile",
     "MIN_RATES",
     "rate_ranges",
     "at_seed",
@@ -56,6 +58,7 @@ __all__ = [
     "wkb_exponents",
     "fig8_grid_error",
     "fig8_cells",
+    "seed_scan",
     "confirm_cell",
     "closest",
 ]
@@ -64,8 +67,8 @@ __all__ = [
 GOOD_AGREEMENT = 0.05
 #: half a unit in the last stated digit of 20.86 s
 STATED = 0.005
-#: the 95 % quantile of chi-squared with two degrees of freedom
-CHI2_95 = 5.991464547107979
+#: the confidence level of claim 3's region
+LEVEL = 0.95
 #: the fewest rates a range holds (the free fit has three parameters)
 MIN_RATES = 4
 #: the columns that name one onset series across seeds
@@ -100,17 +103,42 @@ def at_seed(table: pd.DataFrame, seed: float, column: str = "kappa3") -> pd.Data
     return pd.DataFrame(out)
 
 
+def region_quantile(n: int, level: float = LEVEL) -> float:
+    """The bound on the Mahalanobis distance d2 of a joint confidence region for the two
+    parameters of a least-squares fit to ``n`` points whose variance is estimated from the
+    residuals: 2 F(2, n - 2) at ``level`` (inf for n <= 2)."""
+    from scipy.stats import f
+
+    return 2.0 * float(f.ppf(level, 2, n - 2)) if n > 2 else math.inf
+
+
 def fit_cell(a: np.ndarray, kappa3: np.ndarray, rod: Rod | None = None) -> dict[str, float]:
     """Eq (33) on one cell's onsets: the fixed-kappa_cri fit (b, sigma, their standard
-    errors, the misfit m3 of the paper's pair, the law's Fig 8 and Fig 9 times) and the
-    free fit's kappa_cri; NaN where a fit fails."""
+    errors, the misfit m3 of the paper's pair, the law's Fig 8 and Fig 9 times), the
+    free fit's kappa_cri, and ``paper_gap``: the paper's law (eq 34) against the onsets,
+    the largest |kappa3(paper) - kappa3| / (kappa3 - kappa_cri) over the cell's rates (a
+    test of claim 3 without a statistical model); NaN where a fit fails."""
     rod = Rod.paper() if rod is None else rod
     out = dict.fromkeys(
-        ("b", "sigma", "b_err", "sigma_err", "m3", "law_fig8", "law_fig9", "kappa_cri_free"),
+        (
+            "b",
+            "sigma",
+            "b_err",
+            "sigma_err",
+            "m3",
+            "law_fig8",
+            "law_fig9",
+            "kappa_cri_free",
+            "paper_gap",
+        ),
         math.nan,
     )
     ok = np.isfinite(kappa3)
     a, kappa3 = np.asarray(a)[ok], np.asarray(kappa3)[ok]
+    if a.size:
+        kc = critical_twist(rod)
+        paper = kc + value("b") / rod.L * (a * rod.L / rod.c) ** value("sigma")
+        out["paper_gap"] = float(np.max(np.abs(paper - kappa3) / (kappa3 - kc)))
     try:
         f = fit_power_law(a, kappa3, rod, n_boot=0)
     except ValueError:
@@ -125,7 +153,7 @@ def fit_cell(a: np.ndarray, kappa3: np.ndarray, rod: Rod | None = None) -> dict[
         sigma=f.sigma,
         b_err=f.b_err,
         sigma_err=f.sigma_err,
-        m3=math.sqrt(max(d2, 0.0) / CHI2_95),
+        m3=math.sqrt(max(d2, 0.0) / region_quantile(a.size)),
         law_fig8=f.time_to_buckle(1.6, 0.0, Rod(rho=1500.0)),
         law_fig9=f.time_to_buckle(1.6, 0.0, Rod(rho=5000.0)),
     )
@@ -139,13 +167,17 @@ def fit_cell(a: np.ndarray, kappa3: np.ndarray, rod: Rod | None = None) -> dict[
 def fits(table: pd.DataFrame, min_rates: int = MIN_RATES) -> pd.DataFrame:
     """:func:`fit_cell` for every (seed, form, rule) of a ladder ``table`` (from
     :func:`dyntorsion.consistency.table`, or interpolated by :func:`at_seed` with a
-    ``seed`` column) and every rate range of :func:`rate_ranges`."""
+    ``seed`` column) and every rate range of :func:`rate_ranges` whose every rate
+    buckled (a range with a rate missing is not a cell)."""
     rows = []
+    rates = np.array(sorted(set(table.a)))
     ok = table[table.status == "buckled"] if "status" in table else table
     for (seed, form, rule), g in ok.groupby(["seed", "form", "rule"]):
         g = g.sort_values("a")
-        for lo, hi in rate_ranges(table.a, min_rates):
+        for lo, hi in rate_ranges(rates, min_rates):
             sel = g[(g.a >= lo) & (g.a <= hi)]
+            if len(sel) < np.count_nonzero((rates >= lo) & (rates <= hi)):
+                continue
             cell = {"seed": seed, "form": form, "rule": rule, "a_lo": lo, "a_hi": hi}
             rows.append(cell | {"n": len(sel)} | fit_cell(sel.a.to_numpy(), sel.kappa3.to_numpy()))
     return pd.DataFrame(rows)
@@ -236,11 +268,12 @@ def wkb_exponents(
     rates: np.ndarray,
     table: tuple[np.ndarray, np.ndarray],
     kappa_cri: float | None = None,
-) -> tuple[np.ndarray, np.ndarray]:
+) -> tuple[np.ndarray, np.ndarray, float]:
     """The local exponent d ln(kappa3 - kappa_cri) / d ln a of the WKB law at ``rates``:
     the e-foldings N = I(kappa3) / a of the onsets (``a``, ``kappa3``) fitted as
     N = n0 + n1 ln a, and kappa3(a) the twist where I = a N(a) (``table`` from
-    :func:`efold_table`).  Returns (exponent, valid), valid where N(a) > 1."""
+    :func:`efold_table`).  Returns (exponent, valid, n1), valid where N(a) > 1; as
+    a -> 0 the exponent tends to 2/3 (1 + n1 / N)."""
     kc = critical_twist(Rod.paper()) if kappa_cri is None else kappa_cri
     kappa, integral = table
     a, rates = np.asarray(a, dtype=float), np.asarray(rates, dtype=float)
@@ -248,7 +281,7 @@ def wkb_exponents(
     n1, n0 = np.polyfit(np.log(a), n, 1)
     n_of_a = n0 + n1 * np.log(rates)
     k3 = np.interp(np.maximum(n_of_a, 0.5) * rates, integral, kappa)
-    return np.gradient(np.log(k3 - kc), np.log(rates)), n_of_a > 1.0
+    return np.gradient(np.log(k3 - kc), np.log(rates)), n_of_a > 1.0, float(n1)
 
 
 def fig8_grid_error() -> float:
@@ -275,6 +308,21 @@ def fig8_cells(map_table: pd.DataFrame, direct: pd.DataFrame, grid_error: float)
         parts.append(fits(k))
     cells = pd.concat(parts, ignore_index=True)
     return misfits(cells, direct, grid_error)
+
+
+def seed_scan(
+    map_table: pd.DataFrame, direct: pd.DataFrame, grid_error: float, step: float = 0.25
+) -> pd.DataFrame:
+    """Every cell judged (:func:`misfits`) at seeds every ``step`` decades between the
+    map's smallest and largest, the onsets interpolated in log10(seed) (:func:`at_seed`):
+    where between the map's seeds a claim holds."""
+    lo, hi = np.log10(map_table.seed.min()), np.log10(map_table.seed.max())
+    parts = []
+    for x in np.arange(lo, hi + step / 2, step):
+        k = at_seed(map_table, 10.0**x)
+        k["status"] = np.where(np.isfinite(k.kappa3), "buckled", "none")
+        parts.append(fits(k))
+    return misfits(pd.concat(parts, ignore_index=True), direct, grid_error)
 
 
 def confirm_cell(cell: pd.Series, confirm: pd.DataFrame) -> dict[str, float]:
