@@ -148,4 +148,9 @@ def test_the_closest_consistency_cell_is_a_variant(table):
     assert rows.loc["fig8_tc", "verdict"] == "agrees to the digits stated"
     assert rows.loc["sigma", "verdict"] != "agrees to the digits stated"
     compact = glance.compact()
-    assert compact["evidence"].str.contains(glance.CLOSEST_PAGE, regex=False).sum() == len(rows)
+    closest = compact[compact["evidence"].str.contains(glance.CLOSEST_PAGE, regex=False)]
+    assert len(closest) == len(rows)
+    form = rows["variant"].iloc[0].split(": ", 1)[1].split(" ")[1].rstrip(",")
+    assert form in ("uniform", "point")
+    said = "N at mid-span" if form == "point" else "uniform"
+    assert closest["seed [N/m]"].str.contains(said, regex=False).all()

@@ -130,7 +130,7 @@ def _seed_cell(variant: str) -> str:
     """The seed column of :func:`compact`: the seed of a variant, typeset."""
     if variant.startswith(CLOSEST):
         seed, form, rest = variant.split(": ", 1)[1].split(" ", 2)
-        unit = "" if form == "uniform" else " N at mid-span"
+        unit = " uniform" if form.rstrip(",") == "uniform" else " N at mid-span"
         return f"{sci(float(seed), 2)}{unit} ({CLOSEST}: {rest})"
     return (
         variant.replace("stated seed 1e-8 N/m", "10⁻⁸ (stated)").replace("seed 1e-17 N/m", "10⁻¹⁷")
