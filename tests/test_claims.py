@@ -7,6 +7,8 @@ import math
 import numpy as np
 import pandas as pd
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
 from dyntorsion import Rod
 from dyntorsion import claims as C
@@ -183,3 +185,24 @@ def test_wkb_exponent_grows_with_the_efoldings_per_log_rate(efolds):
     steep, _, n1 = C.wkb_exponents(a, rising, rates, efolds)
     assert n1 == pytest.approx(3.0, rel=1e-6)
     assert np.all(steep > base + 0.03)
+
+
+@given(
+    x=st.floats(-20.0, -6.0),
+    t=st.lists(st.floats(5.0, 50.0), min_size=3, max_size=8, unique=True),
+)
+def test_at_seed_interpolates_between_its_neighbours(x, t):
+    """Any seed inside the tabulated ones: the value lies between the two tabulated
+    neighbours' (linear in log10 seed); outside them it is NaN, never extrapolated."""
+    seeds = 10.0 ** np.linspace(-20.0, -6.0, len(t))
+    table = pd.DataFrame(
+        {"form": "uniform", "rule": "threshold", "a": 1.0, "rho": 1500.0, "kappa0": 10.0}
+        | {"seed": seeds, "t_c": t, "status": "buckled"}
+    )
+    v = float(C.at_seed(table, 10.0**x, "t_c").t_c.iloc[0])
+    xs = np.log10(seeds)
+    i = min(int(np.searchsorted(xs, x, side="right")), len(xs) - 1)
+    lo, hi = sorted((t[max(i - 1, 0)], t[i]))
+    assert lo - 1e-9 <= v <= hi + 1e-9
+    assert math.isnan(float(C.at_seed(table, 1e-22, "t_c").t_c.iloc[0]))
+    assert math.isnan(float(C.at_seed(table, 1e-4, "t_c").t_c.iloc[0]))

@@ -152,3 +152,8 @@ def test_closest_cell_regression(best, at8, num_regression):
         },
         default_tolerance={"rtol": 1e-6, "atol": 1e-12},
     )
+
+
+def test_an_unknown_set_is_refused_with_the_allowed_names():
+    with pytest.raises(ValueError, match=r"preset='nope'; allowed: map, direct, confirm"):
+        K.scenes("nope")
