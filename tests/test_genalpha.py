@@ -340,8 +340,19 @@ def test_failed_newton_reports_time_step_iterations_residual():
     assert "t=0.25" in str(err) and "step 250" in str(err) and "7 iterations" in str(err)
 
 
-def test_max_iter_failure_raises_convergence_error():
-    """One allowed correction cannot converge a nonlinear step from a poor predictor."""
+@pytest.mark.parametrize(
+    "newton",
+    [
+        ga.Newton(max_iter=1, reuse=False, stopping="correction"),
+        ga.Newton(max_iter=1, reuse=False, stopping="contraction"),
+        ga.Newton(max_iter=2, stopping="contraction"),
+    ],
+    ids=["correction", "contraction", "contraction-2"],
+)
+def test_max_iter_failure_raises_convergence_error(newton):
+    """Too few corrections cannot converge a nonlinear step from a poor predictor: the
+    error names the time, the step, the corrections and the residual, with either
+    stopping test."""
     model = Cosserat(Rod())
     system = model.system()
     n = 8
@@ -361,11 +372,12 @@ def test_max_iter_failure_raises_convergence_error():
             y0=y0,
             left=left,
             right=right,
-            newton=ga.Newton(max_iter=1, reuse=False),
+            newton=newton,
         )
     e = info.value
     assert e.step >= 1 and e.t == pytest.approx(e.step * 1e-2) and e.iterations >= 1
-    assert np.isfinite(e.residual)
+    assert np.isfinite(e.residual) and e.residual > 0
+    assert f"t={e.t:.10g}" in str(e) and f"step {e.step}" in str(e)
 
 
 # ------------------------------------------------------------------ run bookkeeping

@@ -103,6 +103,42 @@ def test_efolds_follow_the_slow_passage_law_near_kappa_cri():
     assert n == pytest.approx(2 / 3 * math.sqrt(g) * d**1.5 / 0.5, rel=0.02)
 
 
+@pytest.fixture(scope="module")
+def efold_table():
+    model = LS.LateralModel(Rod.paper(), modes=48, quadrature=256)
+    return model.efold_table(model.critical_twist() + 150.0)
+
+
+def test_wkb_exponent_is_two_thirds_under_slow_loading_and_falls_towards_one_third(efold_table):
+    """Slow passage: lambda ~ (kappa - kappa_cri)^(1/2) past kappa_cri, so onsets at a
+    fixed number of e-foldings give kappa3 - kappa_cri ~ a^(2/3) as a -> 0; far past
+    kappa_cri the growth rate steepens and the exponent falls below 1/2 towards 1/3."""
+    kappa, integral = efold_table
+    a = np.geomspace(1e-3, 1e2, 12)
+    kappa3 = np.interp(30.0 * a, integral, kappa)
+    rates = np.geomspace(1e-5, 1e2, 300)
+    local, valid, n1 = LS.wkb_exponents(a, kappa3, rates, efold_table)
+    assert valid.all()
+    assert n1 == pytest.approx(0.0, abs=1e-6)
+    assert local[0] == pytest.approx(2 / 3, abs=0.01)
+    decades = [np.interp(r, rates, local) for r in (1e-3, 1e-2, 1e-1, 1.0, 10.0)]
+    assert np.all(np.diff(decades) < -0.01)
+    assert 1 / 3 < local[-1] < 0.45
+
+
+def test_wkb_exponent_grows_with_the_efoldings_per_log_rate(efold_table):
+    """N(a) rising with ln a (n1 > 0) steepens the law: 2/3 (1 + dln N / dln a)."""
+    kappa, integral = efold_table
+    a = np.geomspace(1e-3, 1e-2, 6)
+    flat = np.interp(30.0 * a, integral, kappa)
+    rising = np.interp((30.0 + 3.0 * np.log(a / a[0])) * a, integral, kappa)
+    rates = np.array([1e-3, 2e-3, 5e-3])
+    base, _, _ = LS.wkb_exponents(a, flat, rates, efold_table)
+    steep, _, n1 = LS.wkb_exponents(a, rising, rates, efold_table)
+    assert n1 == pytest.approx(3.0, rel=1e-6)
+    assert np.all(steep > base + 0.03)
+
+
 # ------------------------------------------------------------------ the prebuckling state
 def test_prebuckling_state_is_the_exact_solution_of_eq23():
     """kappa3 equals the d'Alembert solution of section 5; kappa3(0, t) = kappa0 + a t;

@@ -1,15 +1,16 @@
 """The stopping tests of the Newton solve (genalpha.newton, Newton.stopping): the
-contraction test converges to tol, fails as loudly as the correction test, and keeps
-the step-size control's rejections."""
+contraction test converges to tol.  That it fails as loudly as the correction test is
+tests/test_genalpha.py::test_max_iter_failure_raises_convergence_error (both tests), and
+that the step-size control still rejects with it (the default) is
+tests/test_control.py::test_rejected_steps_are_retried_with_smaller_steps."""
 
 import numpy as np
 import pytest
 
-from dyntorsion import Rod, buckling
+from dyntorsion import Rod
 from dyntorsion import genalpha as ga
 from dyntorsion.loading import EQ30
 from dyntorsion.model import IDX, Cosserat
-from dyntorsion.postbuckling import PostBucklingError
 from dyntorsion.sweep import Scene
 
 CONTRACTION = ga.Newton(stopping="contraction")
@@ -77,58 +78,6 @@ def test_stopping_option_is_checked_and_keyed():
     assert ga.Newton().stopping == "contraction"
     old, new = (Scene(a=1.6, newton=n).params() for n in (CORRECTION, ga.Newton()))
     assert old["newton"]["stopping"] == "correction" and new != old
-
-
-def test_diverging_newton_still_raises_with_time_iteration_residual():
-    """One correction per step cannot converge this step: the error names the time,
-    the step, the corrections and the residual, with either stopping test."""
-    model = Cosserat(Rod())
-    system = model.system()
-    n = 8
-    left = ga.Boundary(
-        ga.Boundary.fields(system, list(EQ30.left)).rows,
-        lambda t: np.outer(500.0 * t, [1e-3, 0, 0, 0, 0, 1.0]),
-    )
-    right = ga.Boundary.fields(system, list(EQ30.right))
-    with pytest.raises(ga.ConvergenceError) as info:
-        ga.integrate(
-            system,
-            n_cells=n,
-            length=1.0,
-            dt=1e-2,
-            t_end=0.1,
-            y0=np.zeros((n + 1, 12)),
-            left=left,
-            right=right,
-            newton=ga.Newton(max_iter=2, stopping="contraction"),
-        )
-    e = info.value
-    assert e.step >= 1 and e.t == pytest.approx(e.step * 1e-2) and e.iterations >= 1
-    assert np.isfinite(e.residual) and e.residual > 0
-    assert f"t={e.t:.10g}" in str(e) and f"step {e.step}" in str(e)
-
-
-@pytest.mark.slow
-def test_step_control_still_rejects_with_the_contraction_test():
-    """The whip after buckling (a = 16, N = 50, dt = 0.01 s): the controller rejects
-    steps and halves them, as with the correction test."""
-    sc = Scene(a=16.0, kappa0=10.0, n_cells=50, dt=0.01, scheme=ga.Scheme(control=ga.StepControl()))
-    with pytest.raises(PostBucklingError) as info:
-        buckling.simulate(
-            sc.rod,
-            a=16.0,
-            kappa0=10.0,
-            n_cells=50,
-            dt=0.01,
-            t_end=sc.duration(),
-            perturbation=sc.seed,
-            scheme=sc.scheme,
-            newton=CONTRACTION,
-            progress=False,
-        )
-    run = info.value.run
-    assert len(run.rejections) >= 10 and run.substeps.max() > 1
-    assert "dt_min" in str(info.value)
 
 
 @pytest.mark.parametrize("tol", [1e-6, 1e-8, 1e-10])

@@ -39,6 +39,7 @@ import pandas as pd
 from .delay_law import fit_power_law
 from .published import value
 from .rod import Rod
+from .scene import paper_law
 from .statics import critical_twist
 
 __all__ = [
@@ -54,8 +55,6 @@ __all__ = [
     "seed_for_fig8",
     "misfits",
     "local_exponents",
-    "efold_table",
-    "wkb_exponents",
     "fig8_grid_error",
     "fig8_cells",
     "seed_scan",
@@ -137,8 +136,8 @@ def fit_cell(a: np.ndarray, kappa3: np.ndarray, rod: Rod | None = None) -> dict[
     a, kappa3 = np.asarray(a)[ok], np.asarray(kappa3)[ok]
     if a.size:
         kc = critical_twist(rod)
-        paper = kc + value("b") / rod.L * (a * rod.L / rod.c) ** value("sigma")
-        out["paper_gap"] = float(np.max(np.abs(paper - kappa3) / (kappa3 - kc)))
+        gap = np.abs(paper_law(a, rod, kc) - kappa3) / (kappa3 - kc)
+        out["paper_gap"] = float(np.max(gap))
     try:
         f = fit_power_law(a, kappa3, rod, n_boot=0)
     except ValueError:
@@ -249,49 +248,21 @@ def local_exponents(table: pd.DataFrame, kappa_cri: float | None = None) -> pd.D
     return pd.DataFrame(rows)
 
 
-def efold_table(rod: Rod | None = None, points: int = 600) -> tuple[np.ndarray, np.ndarray]:
-    """(kappa, I(kappa)): I = int_{kappa_cri}^{kappa} lambda dkappa, the integral of the
-    frozen growth rate of the linear theory (:class:`~dyntorsion.linear_stability.LateralModel`,
-    48 modes) on a grid geometric in kappa - kappa_cri up to kappa_cri + 150 1/m, so that
-    a ramp at rate a accumulates N = I(kappa) / a e-foldings by kappa (WKB)."""
-    from .linear_stability import LateralModel
-
-    model = LateralModel(Rod.paper() if rod is None else rod, modes=48, quadrature=256)
-    kappa = model.critical_twist() + np.geomspace(1e-6, 150.0, points)
-    lam = np.maximum(model.growth_rate(kappa), 0.0)
-    return kappa, np.concatenate([[0.0], np.cumsum(0.5 * np.diff(kappa) * (lam[1:] + lam[:-1]))])
-
-
-def wkb_exponents(
-    a: np.ndarray,
-    kappa3: np.ndarray,
-    rates: np.ndarray,
-    table: tuple[np.ndarray, np.ndarray],
-    kappa_cri: float | None = None,
-) -> tuple[np.ndarray, np.ndarray, float]:
-    """The local exponent d ln(kappa3 - kappa_cri) / d ln a of the WKB law at ``rates``:
-    the e-foldings N = I(kappa3) / a of the onsets (``a``, ``kappa3``) fitted as
-    N = n0 + n1 ln a, and kappa3(a) the twist where I = a N(a) (``table`` from
-    :func:`efold_table`).  Returns (exponent, valid, n1), valid where N(a) > 1; as
-    a -> 0 the exponent tends to 2/3 (1 + n1 / N)."""
-    kc = critical_twist(Rod.paper()) if kappa_cri is None else kappa_cri
-    kappa, integral = table
-    a, rates = np.asarray(a, dtype=float), np.asarray(rates, dtype=float)
-    n = np.interp(kappa3, kappa, integral) / a
-    n1, n0 = np.polyfit(np.log(a), n, 1)
-    n_of_a = n0 + n1 * np.log(rates)
-    k3 = np.interp(np.maximum(n_of_a, 0.5) * rates, integral, kappa)
-    return np.gradient(np.log(k3 - kc), np.log(rates)), n_of_a > 1.0, float(n1)
-
-
-def fig8_grid_error() -> float:
+def fig8_grid_error(store=None) -> float:
     """The grid error of the direct runs' t_c [s]: the Fig 8 scene (stated seed) at the
     standard grid (N = 100, dt = 0.005 s) against the finest of the accuracy ladder
     (N = 400, dt = 0.00125 s; preset ``accuracy-fig08``)."""
     from .sweep import cached
 
-    t = cached("accuracy-fig08").set_index(["n_cells", "dt"]).t_c
+    t = cached("accuracy-fig08", store).set_index(["n_cells", "dt"]).t_c
     return float(abs(t[(100, 0.005)] - t[(400, 0.00125)]))
+
+
+def _fits_at(map_table: pd.DataFrame, seed: float) -> pd.DataFrame:
+    """:func:`fits` of the map's onsets interpolated to ``seed`` (:func:`at_seed`)."""
+    k = at_seed(map_table, seed)
+    k["status"] = np.where(np.isfinite(k.kappa3), "buckled", "none")
+    return fits(k)
 
 
 def fig8_cells(map_table: pd.DataFrame, direct: pd.DataFrame, grid_error: float) -> pd.DataFrame:
@@ -303,9 +274,7 @@ def fig8_cells(map_table: pd.DataFrame, direct: pd.DataFrame, grid_error: float)
         if not math.isfinite(r.seed):
             continue
         sub = map_table[(map_table.form == r.form) & (map_table.rule == r.rule)]
-        k = at_seed(sub, r.seed)
-        k["status"] = np.where(np.isfinite(k.kappa3), "buckled", "none")
-        parts.append(fits(k))
+        parts.append(_fits_at(sub, r.seed))
     cells = pd.concat(parts, ignore_index=True)
     return misfits(cells, direct, grid_error)
 
@@ -317,11 +286,7 @@ def seed_scan(
     map's smallest and largest, the onsets interpolated in log10(seed) (:func:`at_seed`):
     where between the map's seeds a claim holds."""
     lo, hi = np.log10(map_table.seed.min()), np.log10(map_table.seed.max())
-    parts = []
-    for x in np.arange(lo, hi + step / 2, step):
-        k = at_seed(map_table, 10.0**x)
-        k["status"] = np.where(np.isfinite(k.kappa3), "buckled", "none")
-        parts.append(fits(k))
+    parts = [_fits_at(map_table, 10.0**x) for x in np.arange(lo, hi + step / 2, step)]
     return misfits(pd.concat(parts, ignore_index=True), direct, grid_error)
 
 
@@ -343,7 +308,7 @@ def closest(store=None) -> pd.Series:
     from .consistency import table
 
     maps, direct = table("map", store), table("direct", store)
-    cells = fig8_cells(maps, direct, fig8_grid_error())
+    cells = fig8_cells(maps, direct, fig8_grid_error(store))
     best = cells.sort_values("worst").iloc[0].copy()
     for k, v in confirm_cell(best, table("confirm", store)).items():
         best[f"confirmed_{k}"] = v

@@ -62,7 +62,7 @@ from .buckling import Perturbation, critical_twist
 from .passage import Passage
 from .rod import Rod
 
-__all__ = ["Prebuckling", "LateralModel", "Passage"]
+__all__ = ["Prebuckling", "LateralModel", "Passage", "wkb_exponents"]
 
 
 def _beta(j: int) -> float:
@@ -281,15 +281,28 @@ class LateralModel:
             scipy.optimize.brentq(lowest, 0.8 * guess, 1.2 * guess, xtol=1e-14, rtol=1e-15)
         )
 
+    def efold_table(self, top: float, points: int = 801) -> tuple[np.ndarray, np.ndarray]:
+        """(kappa, I): I(kappa) = int_{kappa_cri}^{kappa} lambda dkappa of the frozen growth
+        rate (no spin) by the trapezoidal rule, on ``points`` twists from kappa_cri to
+        ``top`` spaced geometrically in kappa - kappa_cri (down to 1e-6 of the span), where
+        lambda ~ (kappa - kappa_cri)^(1/2) varies fastest."""
+        kc = self.critical_twist()
+        span = max(float(top) - kc, 0.0)
+        if span == 0.0:
+            return np.array([kc]), np.zeros(1)
+        kappa = kc + np.concatenate([[0.0], np.geomspace(1e-6 * span, span, points - 1)])
+        lam = np.maximum(self.growth_rate(kappa), 0.0)
+        return kappa, np.concatenate(
+            [[0.0], np.cumsum(0.5 * np.diff(kappa) * (lam[1:] + lam[:-1]))]
+        )
+
     def efolds(self, a: float, kappa3: np.ndarray) -> np.ndarray:
         """N = int lambda dt = (1/a) int_{kappa_cri}^{kappa3} lambda(kappa) dkappa: the number of
-        e-foldings the frozen growth rate (no spin) accumulates up to kappa3 (WKB)."""
-        kc = self.critical_twist()
+        e-foldings the frozen growth rate (no spin) accumulates up to kappa3 (WKB;
+        :meth:`efold_table`)."""
         kappa3 = np.atleast_1d(np.asarray(kappa3, dtype=float))
-        grid = np.linspace(kc, max(kc, float(kappa3.max())), 801)
-        lam = np.maximum(self.growth_rate(grid), 0.0)
-        cum = np.concatenate([[0.0], np.cumsum(0.5 * np.diff(grid) * (lam[1:] + lam[:-1]))])
-        return np.interp(kappa3, grid, cum) / a
+        kappa, integral = self.efold_table(float(kappa3.max()))
+        return np.interp(kappa3, kappa, integral) / a
 
     # ------------------------------------------------------------------ the slow passage
     def seed_rows(self, seed: Perturbation) -> tuple[np.ndarray, np.ndarray]:
@@ -363,3 +376,26 @@ class LateralModel:
             raise ValueError(f"dt={dt!r} must be finite and in (0, t_end = {t_end})")
         n_steps = int(math.ceil(t_end / dt))
         return passage_kernel.run(self, base, seed, t_end / n_steps, n_steps, samples, u_ref)
+
+
+def wkb_exponents(
+    a: np.ndarray,
+    kappa3: np.ndarray,
+    rates: np.ndarray,
+    table: tuple[np.ndarray, np.ndarray],
+    kappa_cri: float | None = None,
+) -> tuple[np.ndarray, np.ndarray, float]:
+    """The local exponent d ln(kappa3 - kappa_cri) / d ln a of the WKB delay law at
+    ``rates``: the e-foldings N = I(kappa3) / a of the onsets (``a``, ``kappa3``) fitted
+    as N = n0 + n1 ln a, and kappa3(a) the twist where I = a N(a) (``table`` from
+    :meth:`LateralModel.efold_table`).  Returns (exponent, valid, n1), valid where
+    N(a) > 1; as a -> 0 the exponent tends to 2/3 (1 + n1 / N), as lambda ~
+    (kappa - kappa_cri)^(1/2) past kappa_cri."""
+    kappa, integral = table
+    kc = float(kappa[0]) if kappa_cri is None else kappa_cri
+    a, rates = np.asarray(a, dtype=float), np.asarray(rates, dtype=float)
+    n = np.interp(kappa3, kappa, integral) / a
+    n1, n0 = np.polyfit(np.log(a), n, 1)
+    n_of_a = n0 + n1 * np.log(rates)
+    k3 = np.interp(np.maximum(n_of_a, 0.5) * rates, integral, kappa)
+    return np.gradient(np.log(k3 - kc), np.log(rates)), n_of_a > 1.0, float(n1)

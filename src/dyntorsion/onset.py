@@ -16,7 +16,7 @@ import numpy as np
 if TYPE_CHECKING:
     from .buckling import BucklingRun
 
-__all__ = ["Onset", "check_window", "STATUSES", "classify_onset", "detect_onset"]
+__all__ = ["Onset", "check_window", "STATUSES", "classify_onset", "first_peak", "detect_onset"]
 
 
 @dataclass(frozen=True)
@@ -69,6 +69,16 @@ def classify_onset(run: BucklingRun, onset: Onset | None, kappa_cri: float | Non
     return "buckled" if passed >= kappa_cri else "forced"
 
 
+def first_peak(U: np.ndarray, i_start: int) -> int:
+    """The sample of the first peak of ``U`` = |u3(L, t)| after ``i_start``: the running
+    maximum at the first later sample where U has fallen below 0.7 of it (so the small
+    torsional-wave ripples on the rise do not count as a peak), or the largest sample."""
+    running = np.maximum.accumulate(U[i_start:])
+    drop = np.nonzero(U[i_start:] < 0.7 * running)[0]
+    end = i_start + (int(drop[0]) if drop.size else U.size - i_start)
+    return i_start + int(np.argmax(U[i_start:end]))
+
+
 def detect_onset(
     run: BucklingRun,
     window: tuple[float, float] = (0.1, 0.5),
@@ -119,10 +129,7 @@ def detect_onset(
     else:
         u0, u1 = U[i_start - 1], U[i_start]
         t_ref = float(t[i_start - 1] + (u_ref - u0) / (u1 - u0) * (t[i_start] - t[i_start - 1]))
-    running = np.maximum.accumulate(U[i_start:])
-    drop = np.nonzero(U[i_start:] < 0.7 * running)[0]
-    end = i_start + (int(drop[0]) if drop.size else U.size - i_start)
-    i_peak = i_start + int(np.argmax(U[i_start:end]))
+    i_peak = first_peak(U, i_start)
     U_peak, sign = U[i_peak], np.sign(u[i_peak])
 
     def fit(lo: float, hi: float):

@@ -25,8 +25,8 @@ from typing import Any
 import numpy as np
 
 from .buckling import BucklingRun
-from .onset import classify_onset, detect_onset
-from .scene import Scene, simulate_scene
+from .onset import classify_onset, detect_onset, first_peak
+from .scene import Scene, simulated
 
 __all__ = ["KIND", "RULES", "WINDOWS", "steepest_tangent", "onsets_by_rule", "run_rules"]
 
@@ -44,12 +44,9 @@ RULES: tuple[str, ...] = (*WINDOWS, "steepest tangent", "threshold")
 def steepest_tangent(t: np.ndarray, U: np.ndarray, i_start: int) -> float:
     """t_c of the tangent at the steepest point of the rise of ``U`` = |u3(L, t)|: the
     largest centred difference dU/dt between sample ``i_start`` (U reaches u_ref) and
-    the first peak (the running maximum at the first sample below 0.7 of it, as
+    the first peak (:func:`~dyntorsion.onset.first_peak`, as
     :func:`~dyntorsion.onset.detect_onset`), extrapolated to U = 0."""
-    running = np.maximum.accumulate(U[i_start:])
-    drop = np.nonzero(U[i_start:] < 0.7 * running)[0]
-    end = i_start + (int(drop[0]) if drop.size else U.size - i_start)
-    i_peak = i_start + int(np.argmax(U[i_start:end]))
+    i_peak = first_peak(U, i_start)
     lo, hi = max(i_start, 1), min(i_peak, U.size - 2)
     if hi < lo:
         raise ValueError("the rise holds fewer than 3 samples: refine dt")
@@ -80,16 +77,7 @@ def run_rules(scene: Scene) -> dict[str, Any]:
     """Simulate ``scene`` and read its onset under every rule: a JSON-ready dict with
     ``t_c`` and ``kappa3`` (the end twist at t_c) per rule and the ``status`` of the
     default rule (:func:`~dyntorsion.onset.classify_onset`)."""
-    run = simulate_scene(scene)
-    try:
-        kc = scene.kappa_cri()
-    except ValueError:
-        kc = None
-    out: dict[str, Any] = {
-        "stopped": run.stopped,
-        "steps": int(run.t.size - 1),
-        "kappa_cri": kc,
-    }
+    run, kc, out = simulated(scene)
     try:
         t_c = onsets_by_rule(run)
     except ValueError as err:

@@ -32,7 +32,7 @@ from .published import value
 from .rod import Rod
 from .statics import critical_twist
 
-__all__ = ["Scene", "simulate_scene", "run_scene", "paper_law"]
+__all__ = ["Scene", "simulate_scene", "simulated", "run_scene", "paper_law"]
 
 
 def paper_law(a: float | np.ndarray, rod: Rod, kappa_cri: float | None = None):
@@ -268,23 +268,26 @@ def simulate_scene(scene: Scene, t_end: float | None = None) -> BucklingRun:
     )
 
 
-def run_scene(scene: Scene) -> dict[str, Any]:
-    """Simulate one scene and detect its onset (section 6): a JSON-ready dict whose
-    ``status`` says what happened (:func:`~dyntorsion.onset.classify_onset`: only
-    ``"buckled"`` onsets measure the delay law; a ``"forced"`` one keeps its t_c and
-    kappa3, with ``onset_error`` saying why it is no critical twist)."""
+def simulated(scene: Scene) -> tuple[BucklingRun, float | None, dict[str, Any]]:
+    """Simulate ``scene``: the run, the static critical twist of its rod, load and ends
+    (None where the static theory does not reach, :meth:`Scene.kappa_cri`) and the
+    JSON-ready head of every record of a simulated scene (``stopped``, ``steps``,
+    ``kappa_cri``)."""
     run = simulate_scene(scene)
     try:
         kc = scene.kappa_cri()
     except ValueError:
         kc = None
-    out: dict[str, Any] = {
-        "stopped": run.stopped,
-        "steps": int(run.t.size - 1),
-        "t_last": float(run.t[-1]),
-        "u3_peak": float(np.max(np.abs(run.u3_end))),
-        "kappa_cri": kc,
-    }
+    return run, kc, {"stopped": run.stopped, "steps": int(run.t.size - 1), "kappa_cri": kc}
+
+
+def run_scene(scene: Scene) -> dict[str, Any]:
+    """Simulate one scene and detect its onset (section 6): a JSON-ready dict whose
+    ``status`` says what happened (:func:`~dyntorsion.onset.classify_onset`: only
+    ``"buckled"`` onsets measure the delay law; a ``"forced"`` one keeps its t_c and
+    kappa3, with ``onset_error`` saying why it is no critical twist)."""
+    run, kc, out = simulated(scene)
+    out.update(t_last=float(run.t[-1]), u3_peak=float(np.max(np.abs(run.u3_end))))
     if scene.scheme.control is not None:
         out["control"] = run.run.meta["control"]
     try:
