@@ -14,14 +14,14 @@ The paper's four dynamic claims (values from ``paper/published.json``):
 A *cell* is one choice of seed (magnitude and form), onset rule and contiguous range of
 ladder rates.  Each claim gets a misfit ``m`` (<= 1: the claim holds in that cell):
 
-* m1 = |t_c(Fig 8) - 20.86| / (:data:`STATED` + the grid error of the direct run);
-* m2 = the larger relative gap |law - direct| / direct of Figs 8 and 9, over
+* m1 = ``|t_c(Fig 8) - 20.86|`` / (:data:`STATED` + the grid error of the direct run);
+* m2 = the larger relative gap ``|law - direct| / direct`` of Figs 8 and 9, over
   :data:`GOOD_AGREEMENT`;
 * m3 = sqrt(d2 / (2 F)), d2 the Mahalanobis distance of the paper's (b / L, sigma) from
   the fitted pair under the fit's covariance (scaled by the residuals) and F the
   :data:`LEVEL` quantile of the F distribution with 2 and n - 2 degrees of freedom (the
   paper's pair inside the fit's 95 % joint confidence region, :func:`region_quantile`);
-* m4 = |kappa_cri(free fit) - kappa_cri| / (:data:`GOOD_AGREEMENT` kappa_cri).
+* m4 = ``|kappa_cri(free fit) - kappa_cri|`` / (:data:`GOOD_AGREEMENT` kappa_cri).
 
 "Good agreement" is not quantified in the paper; :data:`GOOD_AGREEMENT` = 5 % is the
 paper's own gap in claim 2 (20.11 s against 20.86 s, 3.6 %) rounded up.  Onsets between
@@ -115,7 +115,7 @@ def fit_cell(a: np.ndarray, kappa3: np.ndarray, rod: Rod | None = None) -> dict[
     """Eq (33) on one cell's onsets: the fixed-kappa_cri fit (b, sigma, their standard
     errors, the misfit m3 of the paper's pair, the law's Fig 8 and Fig 9 times), the
     free fit's kappa_cri, and ``paper_gap``: the paper's law (eq 34) against the onsets,
-    the largest |kappa3(paper) - kappa3| / (kappa3 - kappa_cri) over the cell's rates (a
+    the largest ``|kappa3(paper) - kappa3| / (kappa3 - kappa_cri)`` over the cell's rates (a
     test of claim 3 without a statistical model); NaN where a fit fails."""
     rod = Rod.paper() if rod is None else rod
     out = dict.fromkeys(

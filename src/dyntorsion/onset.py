@@ -70,7 +70,7 @@ def classify_onset(run: BucklingRun, onset: Onset | None, kappa_cri: float | Non
 
 
 def first_peak(U: np.ndarray, i_start: int) -> int:
-    """The sample of the first peak of ``U`` = |u3(L, t)| after ``i_start``: the running
+    """The sample of the first peak of ``U = |u3(L, t)|`` after ``i_start``: the running
     maximum at the first later sample where U has fallen below 0.7 of it (so the small
     torsional-wave ripples on the rise do not count as a peak), or the largest sample."""
     running = np.maximum.accumulate(U[i_start:])

@@ -1,4 +1,4 @@
-"""Onset rules: the ways to read a critical time off the rise of |u3(L, t)| (section 6).
+"""Onset rules: the ways to read a critical time off the rise of ``|u3(L, t)|`` (section 6).
 
 The paper finds t_c by "linearly fitting the initial dramatic variation and
 extrapolating back to u3 = 0" and does not say which part of the rise it fits.  The
@@ -32,7 +32,7 @@ __all__ = ["KIND", "RULES", "WINDOWS", "steepest_tangent", "onsets_by_rule", "ru
 
 KIND = "onset-rules"
 
-#: the window rules: name -> (low, high) fraction of the first peak of |u3(L, t)|
+#: the window rules: name -> (low, high) fraction of the first peak of ``|u3(L, t)|``
 WINDOWS: dict[str, tuple[float, float]] = {
     "window 10-50 %": (0.1, 0.5),
     "window 20-80 %": (0.2, 0.8),
@@ -42,7 +42,7 @@ RULES: tuple[str, ...] = (*WINDOWS, "steepest tangent", "threshold")
 
 
 def steepest_tangent(t: np.ndarray, U: np.ndarray, i_start: int) -> float:
-    """t_c of the tangent at the steepest point of the rise of ``U`` = |u3(L, t)|: the
+    """t_c of the tangent at the steepest point of the rise of ``U = |u3(L, t)|``: the
     largest centred difference dU/dt between sample ``i_start`` (U reaches u_ref) and
     the first peak (:func:`~dyntorsion.onset.first_peak`, as
     :func:`~dyntorsion.onset.detect_onset`), extrapolated to U = 0."""
@@ -61,7 +61,7 @@ def steepest_tangent(t: np.ndarray, U: np.ndarray, i_start: int) -> float:
 
 def onsets_by_rule(run: BucklingRun, u_ref: float | None = None) -> dict[str, float]:
     """t_c of ``run`` under every rule of :data:`RULES` (raises ``ValueError`` where
-    |u3(L, t)| never reaches ``u_ref``, default L / T0)."""
+    ``|u3(L, t)|`` never reaches ``u_ref``, default L / T0)."""
     out = {}
     for name, window in WINDOWS.items():
         onset = detect_onset(run, window=window, variations=(), u_ref=u_ref)
