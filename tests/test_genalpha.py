@@ -218,7 +218,7 @@ def test_spatial_damping_is_unstable():
 
 
 # ------------------------------------------------------------------ quadrature rules
-def _buckling_like(quadrature, n=16, dt=2e-3, t_end=0.3, scheme=None, newton=None):
+def _buckling_like(quadrature, n=16, dt=2e-3, t_end=0.3, scheme=None, newton=None, **kw):
     """Beyond the critical twist with a large seed: the rod bends within 0.3 s."""
     model = Cosserat(Rod())
     system = model.system()
@@ -246,8 +246,46 @@ def _buckling_like(quadrature, n=16, dt=2e-3, t_end=0.3, scheme=None, newton=Non
         source=(model.external_force(f), None),
         snapshots=times,
         newton=newton or ga.Newton(tol=1e-12),
+        **kw,
     )
     return model, system, run
+
+
+def _bent(y, ds=1.0 / 16):
+    return ds * np.sum(np.hypot(y[:, IDX["k1"]], y[:, IDX["k2"]]))
+
+
+@pytest.mark.parametrize("control", [None, ga.StepControl()])
+@pytest.mark.parametrize("check_every", [1, 7])
+def test_stop_gate_skips_only_the_calls_that_cannot_stop(control, check_every):
+    """With ``stop_gate`` the levels, traces and stopping level are those without it,
+    and ``stop`` is called only at levels at or past the gate's limit."""
+    limit = 0.05
+    runs, calls = [], []
+    for gate in (None, (("k1", "k2"), limit)):
+        seen = []
+
+        def stop(t, y, seen=seen):
+            seen.append((t, _bent(y)))
+            return "bent" if _bent(y) > 4 * limit else None
+
+        scheme = ga.Scheme(control=control)
+        runs.append(
+            _buckling_like(
+                "trapezoidal", scheme=scheme, stop=stop, check_every=check_every, stop_gate=gate
+            )[2]
+        )
+        calls.append(seen)
+    plain, gated = runs
+    assert plain.stopped == gated.stopped == "bent"
+    np.testing.assert_array_equal(plain.t, gated.t)
+    np.testing.assert_array_equal(plain.snapshots, gated.snapshots)
+    for name in plain.traces:
+        np.testing.assert_array_equal(plain[name], gated[name])
+    np.testing.assert_array_equal(plain.y, gated.y)
+    assert min(g for _, g in calls[1]) >= limit * (1 - 1e-12)
+    assert len(calls[1]) < len(calls[0])
+    assert [c for c in calls[0] if c[1] >= limit] == calls[1]
 
 
 def test_trapezoidal_rule_keeps_inextensibility_at_every_level():

@@ -143,6 +143,8 @@ class GridWarning(UserWarning):
 #: over the bending time T0, and Courant number c dt / ds of the torsional waves
 TESTED_DT_OVER_T0 = (0.00125 / 43.8178046004133, 0.02 / 43.8178046004133)
 TESTED_COURANT = (1.8, 462.0)
+#: total bending turn ds * sum_j |kappa_perp| below which no self-contact can be (contact())
+_STRAIGHT = np.pi / 3
 
 
 def check_grid(rod: Rod, n_cells: int, dt: float) -> None:
@@ -263,7 +265,7 @@ def simulate(
     def contact(t, y):
         # a centreline whose tangent turns by less than pi/3 in all keeps points an arc
         # length l apart at least l cos(pi/6) > l/2 apart: no contact (min_arc = 2 d)
-        if np.sum(np.hypot(y[:, i_k1], y[:, i_k2])) * ds < np.pi / 3:
+        if np.sum(np.hypot(y[:, i_k1], y[:, i_k2])) * ds < _STRAIGHT:
             previous.clear()
             return None
         r = shapes.shape(y, ds)
@@ -304,6 +306,8 @@ def simulate(
             newton=newton,
             stop=contact if stop_at_contact else None,
             check_every=check_every,
+            # contact() returns None below _STRAIGHT: the march skips it in long chunks
+            stop_gate=(("k1", "k2"), _STRAIGHT * (1.0 - 1e-9)),
             progress=progress,
         )
     except ConvergenceError as raw:

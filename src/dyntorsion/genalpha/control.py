@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 
 from .discrete import constants
-from .march import Forcing, Recording, march
+from .march import NO_GATE, Forcing, Gate, Recording, gauge, march
 from .newton import REASONS, ConvergenceError, Status
 from .scheme import StepControl
 
@@ -75,7 +75,7 @@ class Adaptive:
         one = np.zeros((1, 5))
         done, out = march(
             self.system.F, self.system.dF, self._constants(m), self.work, self.fac, self.opts,
-            forcing, rec, one,
+            forcing, rec, NO_GATE, one,
         )  # fmt: skip
         stats[0:3] += one[0, 0:3]
         stats[3] = one[0, 3]
@@ -128,9 +128,10 @@ class Adaptive:
         return None
 
     # -------------------------------------------------------------- a chunk
-    def chunk(self, k0: int, k1: int, rec: Recording, stats: np.ndarray):
+    def chunk(self, k0: int, k1: int, rec: Recording, stats: np.ndarray, gate: Gate = NO_GATE):
         """Advance from level k0 to k1 (what :func:`march` does without control):
-        (levels completed, failure or None); rec.out gets the recorded levels."""
+        (levels completed, failure or None); rec.out gets the recorded levels.  Fewer
+        levels than asked and no failure: ``gate`` closed the chunk."""
         every = rec.every
         k = k0
         while k < k1:
@@ -146,11 +147,13 @@ class Adaptive:
                 forcing = self._forcing(k, j)
                 done, out = march(
                     self.system.F, self.system.dF, self.con, self.work, self.fac, self.opts,
-                    forcing, sub, stats[k - k0 : j - k0],
+                    forcing, sub, gate, stats[k - k0 : j - k0],
                 )  # fmt: skip
                 k += done
                 if k == j:
                     continue
+                if out.status == Status.CONVERGED:
+                    return k - k0, None
                 self.work.factored[0] = 0
                 self.rejections.append(
                     (float(self.times[k]), self.dt, _reason(out.status), int(out.corrections),
@@ -166,6 +169,8 @@ class Adaptive:
             if k % every == 0:
                 row = k // every - k0 // every - 1
                 rec.out[row] = self.work.y_old[rec.nodes, rec.fields]
+            if k < k1 and gauge(self.work.y_old, gate) >= gate.limit:
+                return k - k0, None
         return k1 - k0, None
 
     def _span(self, i: int) -> tuple[float, float]:

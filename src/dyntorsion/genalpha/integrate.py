@@ -14,9 +14,9 @@ import numpy as np
 from .control import Adaptive
 from .discrete import setup
 from .guard import check_memory, check_time_grid
-from .initial import consistent_rates
-from .march import Forcing, Recording, full_newton_iterations, march
+from .march import NO_GATE, Forcing, Recording, full_newton_iterations, gauge, march
 from .newton import REASONS, ConvergenceError, Newton, Status
+from .plan import Plan, Source, gate_of, initial_rate
 from .scheme import Scheme
 from .system import Boundary, System
 
@@ -115,88 +115,6 @@ def _validate(system, n_cells, length, dt, t_end, t0, record_every, y0, left, ri
     return y0
 
 
-@dataclass(frozen=True)
-class _Source:
-    """q(s, t) = q_space(s) q_time(t) + field(s, t)  (either part may be absent)."""
-
-    s: np.ndarray
-    q_space: np.ndarray
-    q_time: Callable[[np.ndarray], np.ndarray]
-    field: Callable[[np.ndarray, float], np.ndarray] | None
-
-    @classmethod
-    def of(cls, s, nf, source, source_field) -> _Source:
-        q_space = np.zeros((s.size, nf))
-        q_time: Callable[[np.ndarray], np.ndarray] = np.ones_like
-        if source is not None:
-            q_space = np.ascontiguousarray(source[0], dtype=float)
-            if q_space.shape != (s.size, nf):
-                raise ValueError(
-                    f"source space part has shape {q_space.shape}, expected {(s.size, nf)}"
-                )
-            if source[1] is not None:
-                q_time = source[1]
-        return cls(s, q_space, q_time, source_field)
-
-    def time_factor(self, tt: np.ndarray) -> np.ndarray:
-        return np.array(np.broadcast_to(np.asarray(self.q_time(tt), float), tt.shape), order="C")
-
-    def field_at(self, tt: np.ndarray) -> np.ndarray:
-        if self.field is None:
-            return np.zeros((0, 0, 0))
-        return np.ascontiguousarray([self.field(self.s, float(ti)) for ti in tt], dtype=float)
-
-    def at(self, t: float) -> np.ndarray:
-        q = self.q_space * float(np.asarray(self.q_time(np.array([t])))[0])
-        if self.field is not None:
-            q = q + self.field(self.s, t)
-        return q
-
-
-def _initial_rate(system, y0, ds, y_t0, source: _Source, t0) -> np.ndarray:
-    if not isinstance(y_t0, str):
-        rate0 = np.array(y_t0, dtype=float)
-        if rate0.shape != y0.shape or not np.all(np.isfinite(rate0)):
-            raise ValueError(f"y_t0 must be a finite array of shape {y0.shape}")
-        return rate0
-    if y_t0 == "zero":
-        return np.zeros_like(y0)
-    if y_t0 == "consistent":
-        return consistent_rates(system, y0, ds, source.at(t0))
-    raise ValueError(f"y_t0={y_t0!r}; allowed: an array, 'consistent', 'zero'")
-
-
-@dataclass(frozen=True)
-class _Plan:
-    """What to record and keep, and the chunks of steps between checks."""
-
-    names: tuple[str, ...]
-    fields: np.ndarray
-    nodes: np.ndarray
-    every: int
-    snap_steps: list[int]
-    bounds: list[int]
-
-    @classmethod
-    def of(cls, system, n1, n_steps, t0, dt, record, record_every, snapshots, stop, check_every):
-        rec = dict(record or {})
-        fields = np.array([system.index(f) for f, _ in rec.values()], dtype=np.int64)
-        nodes = np.array(
-            [int(n) % n1 if -n1 <= int(n) < n1 else -1 for _, n in rec.values()], dtype=np.int64
-        )
-        if np.any(nodes < 0):
-            raise ValueError(f"record: node indices must be in [-{n1}, {n1})")
-        snap_steps = sorted({int(round((ts - t0) / dt)) for ts in snapshots})
-        if any(k < 0 or k > n_steps for k in snap_steps):
-            t_end = t0 + n_steps * dt
-            raise ValueError(f"snapshots must lie in [t0, t_end] = [{t0}, {t_end}]")
-        check = n_steps if (stop is None and check_every is None) else (check_every or 100)
-        if check < 1:
-            raise ValueError(f"check_every={check_every!r} must be >= 1")
-        bounds = sorted({0, n_steps, *snap_steps, *range(0, n_steps, check)})
-        return cls(tuple(rec), fields, nodes, record_every, snap_steps, bounds)
-
-
 def integrate(
     system: System,
     *,
@@ -218,6 +136,7 @@ def integrate(
     newton: Newton = Newton(),
     stop: Callable[[float, np.ndarray], str | None] | None = None,
     check_every: int | None = None,
+    stop_gate: tuple[Sequence[str], float] | None = None,
     progress: bool | None = None,
     meta: Mapping[str, Any] | None = None,
 ) -> Run:
@@ -245,6 +164,12 @@ def integrate(
         fails is retried with half the step (:mod:`.control`); the fixed grid of dt
         is kept and every recorded level lies on it.
     stop : callable (t, y) -> reason or None, checked every ``check_every`` steps.
+    stop_gate : (fields, limit): ``stop`` is known to return None at every level y
+        with ``ds * sum_j |y_j[fields]| < limit`` (|.| the Euclidean norm over the
+        fields), so until the first level at which that sum reaches ``limit`` (checked
+        after every step, in compiled code) it is not called and the steps run in long
+        chunks; from then on as without the gate.  Same levels, same calls of ``stop``
+        where they can matter, less overhead.
     progress : show a progress bar (None: only for long runs on a terminal).
     """
     t_start = time.perf_counter()
@@ -256,11 +181,11 @@ def integrate(
     n_steps = check_time_grid(dt, t_end, t0, snapshots, check_every)
     check_memory(n_steps, n1, nf, len(record or {}), len(snapshots))
     times = t0 + dt * np.arange(n_steps + 1)
-    src = _Source.of(s, nf, source, source_field)
-    rate0 = _initial_rate(system, y0, ds, y_t0, src, t0)
+    src = Source.of(s, nf, source, source_field)
+    rate0 = initial_rate(system, y0, ds, y_t0, src, t0)
     con, work, fac = setup(system, scheme, n_cells, ds, dt, left, right, y0, rate0)
     opts = newton.options()
-    plan = _Plan.of(system, n1, n_steps, t0, dt, record, record_every, snapshots, stop, check_every)
+    plan = Plan.of(system, n1, n_steps, t0, dt, record, record_every, snapshots, stop, check_every)
     gL, gR, q_time = left.at(times), right.at(times), src.time_factor(times)
 
     rec_t, rec_vals = [t0], [y0[plan.nodes, plan.fields].copy()]
@@ -278,8 +203,12 @@ def integrate(
         from tqdm.auto import tqdm
 
         bar = tqdm(total=n_steps, unit="step", disable=None, leave=False)
+    gate = gate_of(system, stop_gate, ds, stop)
+    quiet = gate.limit < math.inf and gauge(work.y_old, gate) < gate.limit
     try:
-        for k0, k1 in zip(plan.bounds[:-1], plan.bounds[1:], strict=True):
+        k0 = 0
+        while k0 < n_steps:
+            k1 = plan.next_end(k0, quiet)
             chunk = slice(k0, k1 + 1)
             first_rec = (k0 // record_every + 1) * record_every
             rec_steps = np.arange(first_rec, k1 + 1, record_every)
@@ -296,9 +225,10 @@ def integrate(
                     gL[chunk], gR[chunk], src.q_space, q_time[chunk], src.field_at(times[chunk])
                 )
                 completed, outcome = march(
-                    system.F, system.dF, con, work, fac, opts, forcing, rec, stats[k0:k1]
-                )
-                if completed < k1 - k0:
+                    system.F, system.dF, con, work, fac, opts, forcing, rec,
+                    gate if quiet else NO_GATE, stats[k0:k1],
+                )  # fmt: skip
+                if completed < k1 - k0 and outcome.status != Status.CONVERGED:
                     failure = ConvergenceError(
                         float(times[k0 + completed + 1]),
                         k0 + completed + 1,
@@ -308,7 +238,9 @@ def integrate(
                         + " (also after a retry from the other predictor with a fresh Jacobian)",
                     )
             else:
-                completed, failure = adaptive.chunk(k0, k1, rec, stats[k0:k1])
+                completed, failure = adaptive.chunk(
+                    k0, k1, rec, stats[k0:k1], gate if quiet else NO_GATE
+                )
             done = k0 + completed
             kept = rec_steps <= done
             rec_t.extend(t0 + dt * rec_steps[kept])
@@ -317,12 +249,15 @@ def integrate(
                 stopped = f"failed: {failure}"
                 break
             if bar is not None:
-                bar.update(k1 - k0)
-            if k1 in plan.snap_steps:
-                snap_t.append(float(times[k1]))
+                bar.update(completed)
+            k0 = done
+            if done in plan.snap_steps:
+                snap_t.append(float(times[done]))
                 snap_y.append(work.y_old.copy())
-            if stop is not None and k1 < n_steps:
-                reason = stop(float(times[k1]), work.y_old)
+            if quiet and gauge(work.y_old, gate) >= gate.limit:
+                quiet = False
+            if stop is not None and done < n_steps and not quiet and done in plan.checks:
+                reason = stop(float(times[done]), work.y_old)
                 if reason:
                     stopped = str(reason)
                     break

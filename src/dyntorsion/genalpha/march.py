@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from typing import NamedTuple
 
 import numba
@@ -12,7 +13,7 @@ from .._numba import A1, A2, A3, I1, JACOBIAN_SIGNATURE, LOAD_SIGNATURE, jit, na
 from .discrete import CONSTANTS, WORK, factor, prepare_step, residual, solve_neg
 from .newton import _CONVERGED, NEWTON_OPTIONS, OUTCOME, NewtonOptions, Outcome, solve_step
 
-__all__ = ["Forcing", "Recording", "march", "full_newton_iterations"]
+__all__ = ["Forcing", "Recording", "Gate", "NO_GATE", "gauge", "march", "full_newton_iterations"]
 
 
 class Forcing(NamedTuple):
@@ -35,23 +36,49 @@ class Recording(NamedTuple):
     out: np.ndarray  # (records, fields)
 
 
+class Gate(NamedTuple):
+    """A chunk of steps ends early after the first level y at which
+    ``weight * sum_j sqrt(sum_{f in fields} y[j, f]**2) >= limit`` (:func:`gauge`);
+    ``limit = inf`` never ends it."""
+
+    fields: np.ndarray
+    weight: float
+    limit: float
+
+
 FORCING = named(Forcing, A2, A2, A2, A1, A3)
 RECORDING = named(Recording, I1, I1, numba.int64, numba.int64, A2)
+GATE = named(Gate, I1, numba.float64, numba.float64)
+#: the gate that never closes a chunk early
+NO_GATE = Gate(np.zeros(0, np.int64), 0.0, np.inf)
 _F = numba.types.FunctionType(LOAD_SIGNATURE)
 _DF = numba.types.FunctionType(JACOBIAN_SIGNATURE)
 
 
+@jit(signature=numba.float64(A2, GATE))
+def gauge(y, gate):
+    """The quantity the :class:`Gate` compares with its limit, at the level y."""
+    total = 0.0
+    for j in range(y.shape[0]):
+        acc = 0.0
+        for f in gate.fields:
+            acc += y[j, f] * y[j, f]
+        total += math.sqrt(acc)
+    return gate.weight * total
+
+
 @jit(
     signature=numba.types.Tuple((numba.int64, OUTCOME))(
-        _F, _DF, CONSTANTS, WORK, _abd.FACTORS, NEWTON_OPTIONS, FORCING, RECORDING, A2
+        _F, _DF, CONSTANTS, WORK, _abd.FACTORS, NEWTON_OPTIONS, FORCING, RECORDING, GATE, A2
     )
 )
-def march(F, dF, con, w, fac, opts, forcing, rec, stats):
+def march(F, dF, con, w, fac, opts, forcing, rec, gate, stats):
     """Advance len(forcing.gL) - 1 steps from w.y_old, w.rate_old.
 
     ``stats[k]`` <- corrections, residual evaluations, factorisations, residual and
     retries of step k.  Returns the number of steps completed and the last
-    :class:`Outcome` (a failure if fewer steps than asked were completed).
+    :class:`Outcome`.  Fewer steps than asked: a failure, or, with a converged
+    outcome, the ``gate`` closed the chunk after its last completed step.
     """
     co = con.co
     yo, ao, y = w.y_old, w.rate_old, w.y
@@ -103,6 +130,8 @@ def march(F, dF, con, w, fac, opts, forcing, rec, stats):
             for m in range(rec.fields.shape[0]):
                 rec.out[nrec, m] = yo[rec.nodes[m], rec.fields[m]]
             nrec += 1
+        if gate.limit < np.inf and k + 1 < nsteps and gauge(yo, gate) >= gate.limit:
+            return k + 1, out
     return nsteps, out
 
 

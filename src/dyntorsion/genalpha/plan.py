@@ -1,0 +1,123 @@
+"""What a run records and keeps, where its chunks of steps end, and its sources:
+the bookkeeping of :func:`~.integrate.integrate` around the compiled march."""
+
+from __future__ import annotations
+
+import bisect
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from .initial import consistent_rates
+from .march import NO_GATE, Gate
+
+__all__ = ["QUIET_CHUNK", "Plan", "Source", "gate_of", "initial_rate"]
+
+#: the longest chunk of steps marched in one compiled call while a gate is open
+QUIET_CHUNK = 4096
+
+
+@dataclass(frozen=True)
+class Source:
+    """q(s, t) = q_space(s) q_time(t) + field(s, t)  (either part may be absent)."""
+
+    s: np.ndarray
+    q_space: np.ndarray
+    q_time: Callable[[np.ndarray], np.ndarray]
+    field: Callable[[np.ndarray, float], np.ndarray] | None
+
+    @classmethod
+    def of(cls, s, nf, source, source_field) -> Source:
+        q_space = np.zeros((s.size, nf))
+        q_time: Callable[[np.ndarray], np.ndarray] = np.ones_like
+        if source is not None:
+            q_space = np.ascontiguousarray(source[0], dtype=float)
+            if q_space.shape != (s.size, nf):
+                raise ValueError(
+                    f"source space part has shape {q_space.shape}, expected {(s.size, nf)}"
+                )
+            if source[1] is not None:
+                q_time = source[1]
+        return cls(s, q_space, q_time, source_field)
+
+    def time_factor(self, tt: np.ndarray) -> np.ndarray:
+        return np.array(np.broadcast_to(np.asarray(self.q_time(tt), float), tt.shape), order="C")
+
+    def field_at(self, tt: np.ndarray) -> np.ndarray:
+        if self.field is None:
+            return np.zeros((0, 0, 0))
+        return np.ascontiguousarray([self.field(self.s, float(ti)) for ti in tt], dtype=float)
+
+    def at(self, t: float) -> np.ndarray:
+        q = self.q_space * float(np.asarray(self.q_time(np.array([t])))[0])
+        if self.field is not None:
+            q = q + self.field(self.s, t)
+        return q
+
+
+def initial_rate(system, y0, ds, y_t0, source: Source, t0) -> np.ndarray:
+    if not isinstance(y_t0, str):
+        rate0 = np.array(y_t0, dtype=float)
+        if rate0.shape != y0.shape or not np.all(np.isfinite(rate0)):
+            raise ValueError(f"y_t0 must be a finite array of shape {y0.shape}")
+        return rate0
+    if y_t0 == "zero":
+        return np.zeros_like(y0)
+    if y_t0 == "consistent":
+        return consistent_rates(system, y0, ds, source.at(t0))
+    raise ValueError(f"y_t0={y_t0!r}; allowed: an array, 'consistent', 'zero'")
+
+
+@dataclass(frozen=True)
+class Plan:
+    """What to record and keep, and the chunks of steps between checks."""
+
+    names: tuple[str, ...]
+    fields: np.ndarray
+    nodes: np.ndarray
+    every: int
+    snap_steps: list[int]
+    bounds: list[int]
+    checks: set[int]
+
+    @classmethod
+    def of(cls, system, n1, n_steps, t0, dt, record, record_every, snapshots, stop, check_every):
+        rec = dict(record or {})
+        fields = np.array([system.index(f) for f, _ in rec.values()], dtype=np.int64)
+        nodes = np.array(
+            [int(n) % n1 if -n1 <= int(n) < n1 else -1 for _, n in rec.values()], dtype=np.int64
+        )
+        if np.any(nodes < 0):
+            raise ValueError(f"record: node indices must be in [-{n1}, {n1})")
+        snap_steps = sorted({int(round((ts - t0) / dt)) for ts in snapshots})
+        if any(k < 0 or k > n_steps for k in snap_steps):
+            t_end = t0 + n_steps * dt
+            raise ValueError(f"snapshots must lie in [t0, t_end] = [{t0}, {t_end}]")
+        check = n_steps if (stop is None and check_every is None) else (check_every or 100)
+        if check < 1:
+            raise ValueError(f"check_every={check_every!r} must be >= 1")
+        bounds = sorted({0, n_steps, *snap_steps, *range(0, n_steps, check)})
+        return cls(tuple(rec), fields, nodes, record_every, snap_steps, bounds, set(bounds))
+
+    def next_end(self, k0: int, quiet: bool) -> int:
+        """Where the chunk from level k0 ends: the next bound, or while ``quiet`` (the
+        gate below its limit: no check is due) the next snapshot, at most
+        :data:`QUIET_CHUNK` steps on."""
+        n_steps = self.bounds[-1]
+        if quiet:
+            i = bisect.bisect_right(self.snap_steps, k0)
+            nxt = self.snap_steps[i] if i < len(self.snap_steps) else n_steps
+            return min(nxt, k0 + QUIET_CHUNK, n_steps)
+        return self.bounds[bisect.bisect_right(self.bounds, k0)]
+
+
+def gate_of(system, stop_gate, ds: float, stop) -> Gate:
+    """The compiled :class:`~.march.Gate` of ``integrate(stop_gate=(fields, limit))``."""
+    if stop_gate is None or stop is None:
+        return NO_GATE
+    names, limit = stop_gate
+    if not (isinstance(limit, int | float) and limit > 0):
+        raise ValueError(f"stop_gate limit={limit!r} must be a number > 0")
+    fields = np.array([system.index(f) for f in names], dtype=np.int64)
+    return Gate(fields, float(ds), float(limit))
