@@ -93,3 +93,35 @@ def test_a_trace_that_never_rises_names_u_ref():
     t = np.linspace(0, 5, 501)
     with pytest.raises(ValueError, match="u_ref"):
         onsets_by_rule(_run(t, 1e-9 * np.ones_like(t)), u_ref=1e-3)
+
+
+@pytest.mark.parametrize("control", [False, True])
+def test_a_run_to_the_first_peak_gives_the_onsets_of_the_run_to_contact(control):
+    """``Scene(until="first-peak")`` stops after the fall that follows the first peak of
+    ``|u3(L)|``, earlier than the run to self-contact, with the same onset under every
+    rule; the default keeps its cache key, the other enters it."""
+    from dataclasses import replace
+
+    from dyntorsion.onset import detect_onset
+    from dyntorsion.scene import Scene, simulate_scene
+    from dyntorsion.sweep import PRESET_CONTROL
+
+    full = Scene(a=8.0, n_cells=30, dt=0.01)
+    if control:
+        full = replace(full, scheme=replace(full.scheme, control=PRESET_CONTROL))
+    short = replace(full, until="first-peak")
+    assert "until" not in full.params() and short.params()["until"] == "first-peak"
+    assert Scene.from_params(short.params()).params() == short.params()
+    r_full, r_short = simulate_scene(full), simulate_scene(short)
+    assert r_short.stopped.startswith("first peak") and r_short.t[-1] < r_full.t[-1]
+    n = r_short.t.size
+    np.testing.assert_array_equal(r_short.u3_end, r_full.u3_end[:n])
+    assert detect_onset(r_short) == detect_onset(r_full)
+    assert onsets_by_rule(r_short) == onsets_by_rule(r_full)
+
+
+def test_until_names_the_allowed_values():
+    from dyntorsion.scene import Scene
+
+    with pytest.raises(ValueError, match="until='peak'; allowed: 'contact', 'first-peak'"):
+        Scene(a=1.0, until="peak")

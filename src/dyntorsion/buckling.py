@@ -193,6 +193,7 @@ def simulate(
     newton: Newton = Newton(),
     snapshots: Sequence[float] = (),
     stop_at_contact: bool = True,
+    stop_after_first_peak: bool = False,
     check_every: int | None = None,
     progress: bool | None = None,
     on_failure: str = "raise",
@@ -219,6 +220,12 @@ def simulate(
     levels counts as contact too)
     at which two non-neighbouring parts of the centreline come closer than the
     rod's thickness; ``result.stopped`` says which ("t_end" or "self-contact ...").
+    With ``stop_after_first_peak`` it ends, too, at the first check at which
+    ``|u3(L, t)|``, having reached u_ref = L / T0, has fallen below 0.7 of its running
+    maximum: the trace then holds the first peak and the fall after it, all that
+    :func:`~dyntorsion.onset.detect_onset` and the rules of
+    :mod:`~dyntorsion.onset_rules` read (they give the onset of the full run), and the
+    whip after it is not computed.
 
     Past the onset the rod whips round violently; a Newton failure there raises
     :class:`~dyntorsion.postbuckling.PostBucklingError`, one in the first steps
@@ -283,6 +290,22 @@ def simulate(
             )
         return None
 
+    i_u3, u_ref = system.index("u3"), rod.L / rod.T0
+    peak = [0.0]  # running maximum of |u3(L)| at the checks since it reached u_ref
+
+    def first_peak_passed(t, y):
+        u = abs(float(y[-1, i_u3]))
+        if u >= u_ref or peak[0] > 0.0:
+            peak[0] = max(peak[0], u)
+            if u < 0.7 * peak[0]:
+                return f"first peak of |u3(L)| passed at t = {t:.6g} s"
+        return None
+
+    def stop(t, y):
+        return (contact(t, y) if stop_at_contact else None) or (
+            first_peak_passed(t, y) if stop_after_first_peak else None
+        )
+
     try:
         run = integrate(
             system,
@@ -304,10 +327,12 @@ def simulate(
             },
             snapshots=snapshots,
             newton=newton,
-            stop=contact if stop_at_contact else None,
+            stop=stop if (stop_at_contact or stop_after_first_peak) else None,
             check_every=check_every,
             # contact() returns None below _STRAIGHT: the march skips it in long chunks
-            stop_gate=(("k1", "k2"), _STRAIGHT * (1.0 - 1e-9)),
+            # (the first-peak test then starts at the first check past it: it can only
+            # stop later, never before the fall after the first peak)
+            stop_gate=(("k1", "k2"), _STRAIGHT * (1.0 - 1e-9)) if stop_at_contact else None,
             progress=progress,
         )
     except ConvergenceError as raw:
@@ -334,6 +359,7 @@ def simulate(
         "perturbation": asdict(perturbation),
         "scheme": run.meta["scheme"],
         "check_every": check_every,
+        "stop_after_first_peak": stop_after_first_peak,
         "terms": dict(terms or {}),
         "rotary_inertia_scale": rotary_inertia_scale,
     }

@@ -13,6 +13,7 @@ from .buckling import Perturbation
 from .fidelity import LEVELS
 from .loading import ENDS, AxialLoad, Polynomial, RampHold, Tabulated
 from .rod import Rod
+from .scene import UNTIL
 from .sweep import PRESET_CONTROL, Scene
 
 
@@ -98,6 +99,13 @@ def add_scene_options(p: argparse.ArgumentParser, kappa0: float) -> None:
         "self-contact (genalpha.StepControl; the presets always use it)",
     )
     g.add_argument(
+        "--until",
+        choices=UNTIL,
+        default="contact",
+        help="contact: follow the whip to self-contact (default); first-peak: end once "
+        "|u3(L)| has passed its first peak (the same onset, without the whip)",
+    )
+    g.add_argument(
         "--t-end",
         type=float,
         default=None,
@@ -177,6 +185,7 @@ def scene_from(args: argparse.Namespace, a: float | None) -> Scene:
         t_end=args.t_end,
         tension=AxialLoad(args.tension, args.tension_rate),
         ends=args.ends,
+        until=args.until,
         **history_from(args, a),
         **kwargs,
     )

@@ -74,7 +74,13 @@ def grid_dt(a: float, grid: tuple[int, float, float]) -> float:
 
 def _scene(a: float, kappa0: float, seed: Perturbation, grid, rho: float = 1500.0) -> Scene:
     sc = Scene(
-        a=a, kappa0=kappa0, rod=Rod(rho=rho), seed=seed, n_cells=grid[0], dt=grid_dt(a, grid)
+        a=a,
+        kappa0=kappa0,
+        rod=Rod(rho=rho),
+        seed=seed,
+        n_cells=grid[0],
+        dt=grid_dt(a, grid),
+        until="first-peak",
     )
     return replace(sc, scheme=replace(sc.scheme, control=PRESET_CONTROL))
 

@@ -32,7 +32,10 @@ from .published import value
 from .rod import Rod
 from .statics import critical_twist
 
-__all__ = ["Scene", "simulate_scene", "simulated", "run_scene", "paper_law"]
+__all__ = ["Scene", "UNTIL", "simulate_scene", "simulated", "run_scene", "paper_law"]
+
+#: how far a scene's run goes (:class:`Scene` ``until``)
+UNTIL = ("contact", "first-peak")
 
 
 def paper_law(a: float | np.ndarray, rod: Rod, kappa_cri: float | None = None):
@@ -59,6 +62,12 @@ class Scene:
     the rule does not cover (a non-ramp history, a ramped load, other ends) need an
     explicit ``t_end``.  The run stops earlier at self-contact or at a Newton failure
     after the onset.  A run that ends before the onset is reported as such, not hidden.
+
+    ``until="first-peak"`` ends the run, too, once ``|u3(L, t)|`` has passed its first
+    peak (``simulate(stop_after_first_peak=True)``): the same onset under every rule of
+    :mod:`~dyntorsion.onset_rules`, without the whip after it (``"contact"``, the
+    default, follows the whip to self-contact; it is left out of :meth:`params` so that
+    the keys of such scenes do not change).
     """
 
     a: float | None = None
@@ -78,9 +87,12 @@ class Scene:
     history: History | None = None
     tension: AxialLoad | float = 0.0
     ends: Ends | str = "clamped"
+    until: str = "contact"
 
     def __post_init__(self) -> None:
         set_ = object.__setattr__
+        if self.until not in UNTIL:
+            raise ValueError(f"until={self.until!r}; allowed: {', '.join(map(repr, UNTIL))}")
         if not isinstance(self.rod, Rod):
             raise TypeError(f"rod={self.rod!r} must be a dyntorsion.Rod")
         if self.history is None:
@@ -147,6 +159,7 @@ class Scene:
             rotary_inertia_scale=model["rotary_inertia_scale"],
             tension=AxialLoad(**p["load"]),
             ends=ends_from_params(p["ends"]),
+            until=p.get("until", "contact"),
         )
 
     @property
@@ -206,6 +219,7 @@ class Scene:
                 "window": list(self.window),
                 "variations": [list(v) for v in self.variations],
             },
+            **({} if self.until == "contact" else {"until": self.until}),
         }
 
     def label(self) -> str:
@@ -224,6 +238,7 @@ class Scene:
             + (f" ends={self.ends.name}" if self.ends.name != "clamped" else "")
             + "".join(f" {k}={v:g}" for k, v in self.terms)
             + (f" rotary={self.rotary_inertia_scale:g}" if self.rotary_inertia_scale != 1 else "")
+            + (f" until={self.until}" if self.until != "contact" else "")
         )
 
 
@@ -265,6 +280,7 @@ def simulate_scene(scene: Scene, t_end: float | None = None) -> BucklingRun:
         on_failure="return",
         terms=dict(scene.terms),
         rotary_inertia_scale=scene.rotary_inertia_scale,
+        stop_after_first_peak=scene.until == "first-peak",
     )
 
 
