@@ -165,7 +165,7 @@ def integrate(
         is kept and every recorded level lies on it.
     stop : callable (t, y) -> reason or None, checked every ``check_every`` steps.
     stop_gate : (fields, limit): ``stop`` is known to return None at every level y
-        with ``ds * sum_j |y_j[fields]| < limit`` (|.| the Euclidean norm over the
+        with ``ds * sum_j norm(y_j[fields]) < limit`` (the Euclidean norm over the
         fields), so until the first level at which that sum reaches ``limit`` (checked
         after every step, in compiled code) it is not called and the steps run in long
         chunks; from then on as without the gate.  Same levels, same calls of ``stop``
