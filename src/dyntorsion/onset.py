@@ -79,6 +79,17 @@ def first_peak(U: np.ndarray, i_start: int) -> int:
     return i_start + int(np.argmax(U[i_start:end]))
 
 
+def _after_long_steps(run: BucklingRun, t_first: float, what: str) -> None:
+    """The onset reads samples from t_first on: they must lie past the long steps of
+    ``Scheme(long_steps=...)``, which record only their own, sparse, levels."""
+    long = getattr(getattr(run, "run", None), "meta", {}).get("long_steps")
+    if long and long["steps"] and long["until"] > t_first:
+        raise ValueError(
+            f"the long steps lasted until t = {long['until']:.6g} s, past t = {t_first:.6g} s "
+            f"where {what}: lower LongSteps.limit so that the onset is read from samples at dt"
+        )
+
+
 def detect_onset(
     run: BucklingRun,
     window: tuple[float, float] = (0.1, 0.5),
@@ -124,6 +135,7 @@ def detect_onset(
             advice = "the run ends before buckling; increase t_end"
         raise ValueError(f"|u3(L, t)| never reaches u_ref = {u_ref:.3g} m/s: {advice}")
     i_start = int(above[0])
+    _after_long_steps(run, t[max(i_start - 1, 0)], "|u3(L, t)| reaches u_ref")
     if i_start == 0:
         t_ref = float(t[0])
     else:
@@ -142,6 +154,7 @@ def detect_onset(
             raise ValueError(
                 f"window=({lo}, {hi}) holds fewer than 3 samples: refine dt or widen the window"
             )
+        _after_long_steps(run, t[i0], f"the fit window ({lo}, {hi}) starts")
         slope, intercept = np.polyfit(t[i0 : i1 + 1], sign * U[i0 : i1 + 1], 1)
         return -intercept / slope, slope * sign, intercept * sign
 

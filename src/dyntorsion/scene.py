@@ -239,6 +239,7 @@ class Scene:
             + "".join(f" {k}={v:g}" for k, v in self.terms)
             + (f" rotary={self.rotary_inertia_scale:g}" if self.rotary_inertia_scale != 1 else "")
             + (f" until={self.until}" if self.until != "contact" else "")
+            + (f" long={self.scheme.long_steps.factor}" if self.scheme.long_steps else "")
         )
 
 
@@ -306,6 +307,8 @@ def run_scene(scene: Scene) -> dict[str, Any]:
     out.update(t_last=float(run.t[-1]), u3_peak=float(np.max(np.abs(run.u3_end))))
     if scene.scheme.control is not None:
         out["control"] = run.run.meta["control"]
+    if scene.scheme.long_steps is not None:
+        out["long_steps"] = run.run.meta["long_steps"]
     try:
         onset = detect_onset(run, window=scene.window, variations=scene.variations)
     except ValueError as err:

@@ -39,6 +39,7 @@ Where each part lives:
 * :mod:`.newton` -- the damped Newton solve of one step;
 * :mod:`.march` -- the compiled time march and the rate update of eq (11);
 * :mod:`.control` -- step-size control: rejected steps retried with half the step;
+* :mod:`.long` -- long steps while the solution is quiet;
 * :mod:`.integrate` -- the driver (validation, sources, initial rate, recording,
   chunks between checks) and the :class:`Run`;
 * :mod:`.initial` -- consistent initial rates and states.
@@ -48,7 +49,15 @@ from .discrete import Constants, Work
 from .initial import algebraic_residual, consistent_initial_state, consistent_rates
 from .integrate import Run, integrate, newton_iteration_kernel
 from .newton import ConvergenceError, Newton, Outcome, Status
-from .scheme import QUADRATURES, Coefficients, Scheme, SchemeWarning, StepControl, parameters
+from .scheme import (
+    QUADRATURES,
+    Coefficients,
+    LongSteps,
+    Scheme,
+    SchemeWarning,
+    StepControl,
+    parameters,
+)
 from .system import Boundary, System
 
 __all__ = [
@@ -56,6 +65,7 @@ __all__ = [
     "Scheme",
     "SchemeWarning",
     "StepControl",
+    "LongSteps",
     "System",
     "Boundary",
     "Newton",

@@ -14,6 +14,7 @@ import numpy as np
 from .control import Adaptive
 from .discrete import setup
 from .guard import check_memory, check_time_grid
+from .long import LongPhase
 from .march import NO_GATE, Forcing, Recording, full_newton_iterations, gauge, march
 from .newton import REASONS, ConvergenceError, Newton, Status
 from .plan import Plan, Source, gate_of, initial_rate
@@ -162,7 +163,9 @@ def integrate(
     snapshots : times at which the whole state is kept (nearest time level).
     scheme : with ``scheme.control`` (a :class:`StepControl`) a step whose Newton solve
         fails is retried with half the step (:mod:`.control`); the fixed grid of dt
-        is kept and every recorded level lies on it.
+        is kept and every recorded level lies on it.  With ``scheme.long_steps`` (a
+        :class:`LongSteps`) the run starts with steps of a multiple of dt while the
+        solution is quiet (:mod:`.long`), recording only the levels they reach.
     stop : callable (t, y) -> reason or None, checked every ``check_every`` steps.
     stop_gate : (fields, limit): ``stop`` is known to return None at every level y
         with ``ds * sum_j norm(y_j[fields]) < limit`` (the Euclidean norm over the
@@ -205,10 +208,18 @@ def integrate(
         bar = tqdm(total=n_steps, unit="step", disable=None, leave=False)
     gate = gate_of(system, stop_gate, ds, stop)
     quiet = gate.limit < math.inf and gauge(work.y_old, gate) < gate.limit
+    long = None
+    if scheme.long_steps is not None:
+        long = LongPhase(scheme.long_steps, system, scheme, ds, dt, left, right, work, t0)
     try:
         k0 = 0
         while k0 < n_steps:
             k1 = plan.next_end(k0, quiet)
+            in_long = long is not None and long.active
+            if in_long:
+                k_long = long.end(k0, k1, plan.landing(k0))
+                in_long = k_long is not None
+                k1 = k_long if in_long else k1
             chunk = slice(k0, k1 + 1)
             first_rec = (k0 // record_every + 1) * record_every
             rec_steps = np.arange(first_rec, k1 + 1, record_every)
@@ -220,7 +231,13 @@ def integrate(
                 np.zeros((rec_steps.size, len(plan.fields))),
             )
             failure = None
-            if adaptive is None:
+            if in_long:
+                grid = (times, gL, gR, q_time, src)
+                reached = long.chunk(
+                    k0, k1, system, fac, opts, grid, plan, stats[k0:k1], rec_t, rec_vals
+                )
+                completed = reached - k0
+            elif adaptive is None:
                 forcing = Forcing(
                     gL[chunk], gR[chunk], src.q_space, q_time[chunk], src.field_at(times[chunk])
                 )
@@ -242,9 +259,10 @@ def integrate(
                     k0, k1, rec, stats[k0:k1], gate if quiet else NO_GATE
                 )
             done = k0 + completed
-            kept = rec_steps <= done
-            rec_t.extend(t0 + dt * rec_steps[kept])
-            rec_vals.extend(rec.out[kept])
+            if not in_long:
+                kept = rec_steps <= done
+                rec_t.extend(t0 + dt * rec_steps[kept])
+                rec_vals.extend(rec.out[kept])
             if failure is not None:
                 stopped = f"failed: {failure}"
                 break
@@ -256,7 +274,8 @@ def integrate(
                 snap_y.append(work.y_old.copy())
             if quiet and gauge(work.y_old, gate) >= gate.limit:
                 quiet = False
-            if stop is not None and done < n_steps and not quiet and done in plan.checks:
+            due = done in plan.checks or (in_long and done == k1)
+            if stop is not None and done < n_steps and not quiet and due:
                 reason = stop(float(times[done]), work.y_old)
                 if reason:
                     stopped = str(reason)
@@ -265,6 +284,9 @@ def integrate(
         if bar is not None:
             bar.close()
     rv = np.array(rec_vals).reshape(len(rec_vals), len(plan.fields))
+    substeps = np.ones(done, np.int64) if adaptive is None else adaptive.substeps[:done].copy()
+    if long is not None:
+        substeps = long.substeps(substeps)
     st = stats[:done]
     result = Run(
         s=s,
@@ -284,7 +306,7 @@ def integrate(
         wall_time=time.perf_counter() - t_start,
         stopped=stopped,
         names=system.names,
-        substeps=np.ones(done, np.int64) if adaptive is None else adaptive.substeps[:done].copy(),
+        substeps=substeps,
         rejections=[] if adaptive is None else list(adaptive.rejections),
         meta={
             "n_cells": n_cells,
@@ -294,6 +316,7 @@ def integrate(
             "t_end": t_end,
             "scheme": scheme.params(),
             **({} if adaptive is None else {"control": adaptive.summary(done)}),
+            **({} if long is None else {"long_steps": long.summary()}),
             "newton": newton.__dict__.copy(),
             **(meta or {}),
         },

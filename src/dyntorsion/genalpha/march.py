@@ -13,7 +13,17 @@ from .._numba import A1, A2, A3, I1, JACOBIAN_SIGNATURE, LOAD_SIGNATURE, jit, na
 from .discrete import CONSTANTS, WORK, factor, prepare_step, residual, solve_neg
 from .newton import _CONVERGED, NEWTON_OPTIONS, OUTCOME, NewtonOptions, Outcome, solve_step
 
-__all__ = ["Forcing", "Recording", "Gate", "NO_GATE", "gauge", "march", "full_newton_iterations"]
+__all__ = [
+    "Forcing",
+    "Recording",
+    "Gate",
+    "NO_GATE",
+    "make_gate",
+    "gauge",
+    "closes",
+    "march",
+    "full_newton_iterations",
+]
 
 
 class Forcing(NamedTuple):
@@ -38,19 +48,29 @@ class Recording(NamedTuple):
 
 class Gate(NamedTuple):
     """A chunk of steps ends early after the first level y at which
-    ``weight * sum_j sqrt(sum_{f in fields} y[j, f]**2) >= limit`` (:func:`gauge`);
-    ``limit = inf`` never ends it."""
+    ``weight * sum_j sqrt(sum_{f in fields} y[j, f]**2) >= limit`` (:func:`gauge`),
+    or, with ``tol < inf``, at which the local error of that gauge over the step that
+    reached it exceeds ``tol`` (:func:`closes`); ``limit = inf`` never ends it.
+    ``state`` is the memory of the estimate: levels seen, the largest gauge, why it
+    closed (0 open, 1 limit, 2 error), and the gauge at the last three levels."""
 
     fields: np.ndarray
     weight: float
     limit: float
+    tol: float
+    state: np.ndarray
+
+
+def make_gate(fields, weight: float, limit: float, tol: float = np.inf) -> Gate:
+    """A :class:`Gate` with fresh memory."""
+    return Gate(np.asarray(fields, np.int64), float(weight), float(limit), float(tol), np.zeros(6))
 
 
 FORCING = named(Forcing, A2, A2, A2, A1, A3)
 RECORDING = named(Recording, I1, I1, numba.int64, numba.int64, A2)
-GATE = named(Gate, I1, numba.float64, numba.float64)
+GATE = named(Gate, I1, numba.float64, numba.float64, numba.float64, A1)
 #: the gate that never closes a chunk early
-NO_GATE = Gate(np.zeros(0, np.int64), 0.0, np.inf)
+NO_GATE = make_gate(np.zeros(0, np.int64), 0.0, np.inf)
 _F = numba.types.FunctionType(LOAD_SIGNATURE)
 _DF = numba.types.FunctionType(JACOBIAN_SIGNATURE)
 
@@ -67,6 +87,30 @@ def gauge(y, gate):
     return gate.weight * total
 
 
+@jit(signature=numba.boolean(A2, GATE))
+def closes(y, gate):
+    """Whether the level y closes ``gate``: its :func:`gauge` G reached the limit, or
+    (tol < inf) the local error of the trapezoidal step h that reached it,
+    ``h^3 G_ttt / 12 ~ (G^n - 3 G^{n-1} + 3 G^{n-2} - G^{n-3}) / 12``, exceeds ``tol``
+    times the largest G so far: a relative error (s h)^3 / 12 for a growth e^{st},
+    zero for a response quadratic in t.  Remembers G."""
+    g = gauge(y, gate)
+    st = gate.state
+    if g >= gate.limit:
+        st[2] = 1.0
+        return True
+    if not gate.tol < np.inf:
+        return False
+    seen = int(st[0])
+    st[1] = max(st[1], g)
+    if seen >= 3 and abs(g - 3.0 * st[5] + 3.0 * st[4] - st[3]) > 12.0 * gate.tol * st[1]:
+        st[2] = 2.0
+        return True
+    st[3], st[4], st[5] = st[4], st[5], g
+    st[0] = seen + 1
+    return False
+
+
 @jit(
     signature=numba.types.Tuple((numba.int64, OUTCOME))(
         _F, _DF, CONSTANTS, WORK, _abd.FACTORS, NEWTON_OPTIONS, FORCING, RECORDING, GATE, A2
@@ -78,7 +122,8 @@ def march(F, dF, con, w, fac, opts, forcing, rec, gate, stats):
     ``stats[k]`` <- corrections, residual evaluations, factorisations, residual and
     retries of step k.  Returns the number of steps completed and the last
     :class:`Outcome`.  Fewer steps than asked: a failure, or, with a converged
-    outcome, the ``gate`` closed the chunk after its last completed step.
+    outcome, the ``gate`` closed the chunk after its last completed step (it is
+    consulted at every level, the last one too: ``gate.state[2]`` says).
     """
     co = con.co
     yo, ao, y = w.y_old, w.rate_old, w.y
@@ -130,7 +175,7 @@ def march(F, dF, con, w, fac, opts, forcing, rec, gate, stats):
             for m in range(rec.fields.shape[0]):
                 rec.out[nrec, m] = yo[rec.nodes[m], rec.fields[m]]
             nrec += 1
-        if gate.limit < np.inf and k + 1 < nsteps and gauge(yo, gate) >= gate.limit:
+        if gate.limit < np.inf and closes(yo, gate):
             return k + 1, out
     return nsteps, out
 

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .initial import consistent_rates
-from .march import NO_GATE, Gate
+from .march import NO_GATE, Gate, make_gate
 
 __all__ = ["QUIET_CHUNK", "Plan", "Source", "gate_of", "initial_rate"]
 
@@ -104,12 +104,14 @@ class Plan:
         """Where the chunk from level k0 ends: the next bound, or while ``quiet`` (the
         gate below its limit: no check is due) the next snapshot, at most
         :data:`QUIET_CHUNK` steps on."""
-        n_steps = self.bounds[-1]
         if quiet:
-            i = bisect.bisect_right(self.snap_steps, k0)
-            nxt = self.snap_steps[i] if i < len(self.snap_steps) else n_steps
-            return min(nxt, k0 + QUIET_CHUNK, n_steps)
+            return min(self.landing(k0), k0 + QUIET_CHUNK)
         return self.bounds[bisect.bisect_right(self.bounds, k0)]
+
+    def landing(self, k0: int) -> int:
+        """The next level after k0 that a run must land on: a snapshot or the last."""
+        i = bisect.bisect_right(self.snap_steps, k0)
+        return self.snap_steps[i] if i < len(self.snap_steps) else self.bounds[-1]
 
 
 def gate_of(system, stop_gate, ds: float, stop) -> Gate:
@@ -120,4 +122,4 @@ def gate_of(system, stop_gate, ds: float, stop) -> Gate:
     if not (isinstance(limit, int | float) and limit > 0):
         raise ValueError(f"stop_gate limit={limit!r} must be a number > 0")
     fields = np.array([system.index(f) for f in names], dtype=np.int64)
-    return Gate(fields, float(ds), float(limit))
+    return make_gate(fields, ds, limit)

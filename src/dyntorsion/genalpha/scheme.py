@@ -12,6 +12,7 @@ __all__ = [
     "QUADRATURES",
     "SchemeWarning",
     "StepControl",
+    "LongSteps",
     "Scheme",
     "Coefficients",
 ]
@@ -106,6 +107,52 @@ class StepControl:
 
 
 @dataclass(frozen=True)
+class LongSteps:
+    """Steps of ``factor * dt`` while the solution is quiet: from t_0 on the levels
+    t_0 + i factor dt, until the first such level at which
+
+    * the gauge G = ``ds * sum_j norm(y_j[fields])`` reaches ``limit`` (for the rod:
+      the total bending turn in rad, so ``limit = 0.3`` means "straight to 17
+      degrees"), or
+    * the estimated local error of the long step h in G, ``|h^3 G_ttt| / 12`` from the
+      third difference of G at the last four levels (the level t_0, where the load
+      starts with a kink, is not used), exceeds ``tol`` times the largest G so far (a
+      relative error (s h)^3 / 12 for a growth e^{st}), or
+    * a long step's Newton solve fails (the level before it is kept), or a level that
+      must be landed on (a snapshot, t_end) is not a whole number of long steps away,
+
+    and at dt from there on (:mod:`.long`).  The long steps record only their own
+    levels; a stop check falls on the first long level at or after it.  The step
+    that first exceeds ``tol`` is kept.  Changing the step once is free at
+    lambda_t = -1 (c_A = 0 in eq 11-12) and keeps the order otherwise (see
+    :class:`StepControl`).  ``Run.meta["long_steps"]`` says how many long steps were
+    taken, until when, and why they ended.  The defaults are those measured on the
+    Fig 10 sweep ("Accuracy and cost" page).
+    """
+
+    factor: int = 8
+    limit: float = 0.3
+    tol: float = 1e-3
+    fields: tuple[str, ...] = ("k1", "k2")
+
+    def __post_init__(self) -> None:
+        if not (isinstance(self.factor, int) and 2 <= self.factor <= 4096):
+            raise ValueError(f"long_steps factor={self.factor!r} must be an integer in [2, 4096]")
+        if not (isinstance(self.limit, int | float) and math.isfinite(self.limit)):
+            raise ValueError(f"long_steps limit={self.limit!r} must be a finite number > 0")
+        if not self.limit > 0:
+            raise ValueError(f"long_steps limit={self.limit!r} must be a finite number > 0")
+        if not (isinstance(self.tol, int | float) and 0 < self.tol < 1):
+            raise ValueError(f"long_steps tol={self.tol!r} must be a number in (0, 1)")
+        fields = (self.fields,) if isinstance(self.fields, str) else tuple(self.fields)
+        if not fields or not all(isinstance(f, str) for f in fields):
+            raise ValueError(f"long_steps fields={self.fields!r} must be field names")
+        object.__setattr__(self, "fields", fields)
+        object.__setattr__(self, "limit", float(self.limit))
+        object.__setattr__(self, "tol", float(self.tol))
+
+
+@dataclass(frozen=True)
 class Scheme:
     """Generalised-alpha parameters in space and time and the load-vector quadrature.
 
@@ -115,14 +162,21 @@ class Scheme:
         or "midpoint" (F at the averaged state).
     control : a :class:`StepControl` (or its fields as a dict), or None for fixed steps
         (the default: the paper's grid).
+    long_steps : a :class:`LongSteps` (or its fields as a dict): steps of a multiple
+        of dt while the solution is quiet; None (the default) for none.
     """
 
     lam_s: float = -1.0
     lam_t: float = -1.0
     quadrature: str = "trapezoidal"
     control: StepControl | None = None
+    long_steps: LongSteps | None = None
 
     def __post_init__(self) -> None:
+        if isinstance(self.long_steps, dict):
+            object.__setattr__(self, "long_steps", LongSteps(**self.long_steps))
+        if self.long_steps is not None and not isinstance(self.long_steps, LongSteps):
+            raise TypeError(f"long_steps={self.long_steps!r} must be a LongSteps, a dict or None")
         if isinstance(self.control, dict):
             control = dict(self.control)
             control["refine"] = tuple(tuple(w) for w in control.get("refine", ()))
@@ -147,12 +201,15 @@ class Scheme:
             )
 
     def params(self) -> dict:
-        """The scheme as data (the cache key's part); ``control`` only when it is set, so
-        fixed-step schemes keep the keys they always had."""
+        """The scheme as data (the cache key's part); ``control`` and ``long_steps`` only
+        when set, so fixed-step schemes keep the keys they always had."""
         out = {"lam_s": self.lam_s, "lam_t": self.lam_t, "quadrature": self.quadrature}
         if self.control is not None:
             out["control"] = asdict(self.control)
             out["control"]["refine"] = [list(w) for w in self.control.refine]
+        if self.long_steps is not None:
+            out["long_steps"] = asdict(self.long_steps)
+            out["long_steps"]["fields"] = list(self.long_steps.fields)
         return out
 
     @property
