@@ -18,10 +18,19 @@ from . import shapes
 from .delay_law import PowerLawFit, fit_power_law
 from .genalpha import ConvergenceError, Newton, Run, Scheme, integrate
 from .genalpha.guard import check_time_grid, real
+from .genalpha.march import gauge, make_gate
 from .loading import AxialLoad, Ends, History, Ramp
 from .loading import ends as _ends
 from .model import Cosserat
-from .onset import STATUSES, Onset, check_window, classify_onset, detect_onset
+from .onset import (
+    PEAK_FALL,
+    STATUSES,
+    Onset,
+    check_window,
+    classify_onset,
+    detect_onset,
+    reference_level,
+)
 from .postbuckling import diagnose
 from .rod import Rod
 from .statics import (
@@ -264,7 +273,8 @@ def simulate(
     left, right = end_set.rows(system, hist, load)
     q = model.external_force(perturbation.force(s, rod.L))
 
-    i_k1, i_k2 = system.index("k1"), system.index("k2")
+    bending = ("k1", "k2")
+    turn = make_gate([system.index(f) for f in bending], ds, _STRAIGHT)  # ds sum_j |kappa_perp|
     if check_every is None:
         check_every = 1 if scheme.control is not None else max(1, int(round(0.1 / dt)))
     previous: list[np.ndarray] = []  # the last centreline checked (every level: crossings)
@@ -272,7 +282,7 @@ def simulate(
     def contact(t, y):
         # a centreline whose tangent turns by less than pi/3 in all keeps points an arc
         # length l apart at least l cos(pi/6) > l/2 apart: no contact (min_arc = 2 d)
-        if np.sum(np.hypot(y[:, i_k1], y[:, i_k2])) * ds < _STRAIGHT:
+        if gauge(y, turn) < _STRAIGHT:
             previous.clear()
             return None
         r = shapes.shape(y, ds)
@@ -290,14 +300,14 @@ def simulate(
             )
         return None
 
-    i_u3, u_ref = system.index("u3"), rod.L / rod.T0
+    i_u3, u_ref = system.index("u3"), reference_level(rod)
     peak = [0.0]  # running maximum of |u3(L)| at the checks since it reached u_ref
 
     def first_peak_passed(t, y):
         u = abs(float(y[-1, i_u3]))
         if u >= u_ref or peak[0] > 0.0:
             peak[0] = max(peak[0], u)
-            if u < 0.7 * peak[0]:
+            if u < PEAK_FALL * peak[0]:
                 return f"first peak of |u3(L)| passed at t = {t:.6g} s"
         return None
 
@@ -329,10 +339,10 @@ def simulate(
             newton=newton,
             stop=stop if (stop_at_contact or stop_after_first_peak) else None,
             check_every=check_every,
-            # contact() returns None below _STRAIGHT: the march skips it in long chunks
-            # (the first-peak test then starts at the first check past it: it can only
-            # stop later, never before the fall after the first peak)
-            stop_gate=(("k1", "k2"), _STRAIGHT * (1.0 - 1e-9)) if stop_at_contact else None,
+            # contact() returns None below _STRAIGHT (the same gauge): the march skips it
+            # in long chunks (the first-peak test then starts at the first check past it:
+            # it can only stop later, never before the fall after the first peak)
+            stop_gate=(bending, _STRAIGHT) if stop_at_contact else None,
             progress=progress,
         )
     except ConvergenceError as raw:

@@ -59,6 +59,7 @@ import scipy.optimize
 
 from . import passage as passage_kernel
 from .buckling import Perturbation, critical_twist
+from .onset import reference_level
 from .passage import Passage
 from .rod import Rod
 
@@ -360,7 +361,7 @@ class LateralModel:
         r = self.rod
         T0 = r.T0
         if u_ref is None:
-            u_ref = r.L / T0
+            u_ref = reference_level(r)
         if not (math.isfinite(u_ref) and u_ref > 0):
             raise ValueError(f"u_ref={u_ref!r} must be finite and > 0")
         if t_end is None:

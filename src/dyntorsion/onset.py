@@ -15,8 +15,29 @@ import numpy as np
 
 if TYPE_CHECKING:
     from .buckling import BucklingRun
+    from .rod import Rod
 
-__all__ = ["Onset", "check_window", "STATUSES", "classify_onset", "first_peak", "detect_onset"]
+__all__ = [
+    "Onset",
+    "check_window",
+    "STATUSES",
+    "PEAK_FALL",
+    "reference_level",
+    "classify_onset",
+    "first_peak",
+    "detect_onset",
+]
+
+#: a running maximum of ``|u3(L, t)|`` is the first peak once U falls below this fraction
+#: of it (so the small torsional-wave ripples on the rise do not count as a peak)
+PEAK_FALL = 0.7
+
+
+def reference_level(rod: Rod) -> float:
+    """u_ref = L / T0 [m/s] (T0 = L^2 sqrt(rho A / B1) the bending time scale): the level of
+    ``|u3(L, t)|`` at which the rise to the onset starts, far above the prebuckling level
+    and far below the first peak (0.023 m/s for Table 1)."""
+    return rod.L / rod.T0
 
 
 @dataclass(frozen=True)
@@ -74,7 +95,7 @@ def first_peak(U: np.ndarray, i_start: int) -> int:
     maximum at the first later sample where U has fallen below 0.7 of it (so the small
     torsional-wave ripples on the rise do not count as a peak), or the largest sample."""
     running = np.maximum.accumulate(U[i_start:])
-    drop = np.nonzero(U[i_start:] < 0.7 * running)[0]
+    drop = np.nonzero(U[i_start:] < PEAK_FALL * running)[0]
     end = i_start + (int(drop[0]) if drop.size else U.size - i_start)
     return i_start + int(np.argmax(U[i_start:end]))
 
@@ -121,7 +142,7 @@ def detect_onset(
     if not np.any(U > 0):
         raise ValueError("u3(L, t) is identically zero: the rod never left the straight state")
     if u_ref is None:
-        u_ref = run.rod.L / run.rod.T0
+        u_ref = reference_level(run.rod)
     above = np.nonzero(U >= u_ref)[0]
     if above.size == 0:
         if run.stopped.startswith("failed"):

@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from .genalpha import ConvergenceError
+from .onset import reference_level
 from .rod import Rod
 
 if TYPE_CHECKING:
@@ -63,7 +64,7 @@ def diagnose(
     whose u3(L, t) up to the failure is ``u3_end`` at times ``t``) as the error of its
     cause: :class:`PostBucklingError`, :class:`GridTooCoarseError`, or ``err`` itself
     (a failure before the onset but not in the first steps)."""
-    u_ref = rod.L / rod.T0
+    u_ref = reference_level(rod)
     above = np.nonzero(np.abs(np.asarray(u3_end)) >= u_ref)[0]
     if above.size:
         t_on = float(np.asarray(t)[above[0]])

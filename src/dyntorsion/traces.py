@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 
 from .linear_stability import LateralModel
+from .onset import reference_level
 from .results import Store
 from .sweep import Scene, default_store, simulate_scene
 
@@ -35,7 +36,7 @@ def compare(scene: Scene, modes: int = 16, samples: int = 1200) -> dict[str, Any
     linear model with the torsional waves up to 30 u_ref; both ``|u3(L, t)|`` on
     ``samples`` common times (JSON-ready)."""
     rod = scene.rod
-    u_ref = rod.L / rod.T0
+    u_ref = reference_level(rod)
     lin = LateralModel(rod, modes=modes).passage(
         scene.a, scene.kappa0, scene.seed, u_ref=30 * u_ref
     )

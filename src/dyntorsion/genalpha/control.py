@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 
 from .discrete import constants
-from .march import NO_GATE, Forcing, Gate, Recording, gauge, march
+from .march import NO_GATE, Forcing, Gate, Recording, closes, march
 from .newton import REASONS, ConvergenceError, Status
 from .scheme import StepControl
 
@@ -40,10 +40,11 @@ class Adaptive:
     residual); ``substeps[i]`` is the number of steps accepted on (t_i, t_{i+1}).
     """
 
-    def __init__(self, control: StepControl, system, scheme, ds, dt, left, right, source, ctx):
+    def __init__(self, control: StepControl, system, scheme, ds, dt, left, right, levels, ctx):
         self.control, self.system, self.scheme = control, system, scheme
-        self.ds, self.dt, self.left, self.right, self.src = ds, dt, left, right, source
-        (self.con, self.work, self.fac, self.opts, self.times, self.gL, self.gR, self.qt) = ctx
+        self.ds, self.dt, self.left, self.right = ds, dt, left, right
+        self.levels, self.times, self.src = levels, levels.times, levels.src
+        (self.con, self.work, self.fac, self.opts) = ctx
         self.level = 0  # m of the last accepted substep (0: whole steps)
         self.deepest = 0  # the largest m accepted
         self.rejections: list[tuple[float, float, str, int, float]] = []
@@ -64,13 +65,11 @@ class Adaptive:
             self.work.factored[0] = 0
             self._last = m
         if whole is not None:
-            k = slice(whole, whole + 2)
-            gL, gR, qt = self.gL[k], self.gR[k], self.qt[k]
+            forcing = self.levels.forcing(slice(whole, whole + 2))
         else:
             tt = np.array([ta, tb])
             gL, gR, qt = self.left.at(tt), self.right.at(tt), self.src.time_factor(tt)
-        tt = np.array([ta, tb])
-        forcing = Forcing(gL, gR, self.src.q_space, qt, self.src.field_at(tt))
+            forcing = Forcing(gL, gR, self.src.q_space, qt, self.src.field_at(tt))
         rec = Recording(np.zeros(0, np.int64), np.zeros(0, np.int64), _NEVER, 0, np.zeros((0, 0)))
         one = np.zeros((1, 5))
         done, out = march(
@@ -144,7 +143,7 @@ class Adaptive:
                     self._last = 0
                 row = k // every - k0 // every
                 sub = Recording(rec.fields, rec.nodes, every, k, rec.out[row:])
-                forcing = self._forcing(k, j)
+                forcing = self.levels.forcing(slice(k, j + 1))
                 done, out = march(
                     self.system.F, self.system.dF, self.con, self.work, self.fac, self.opts,
                     forcing, sub, gate, stats[k - k0 : j - k0],
@@ -169,17 +168,12 @@ class Adaptive:
             if k % every == 0:
                 row = k // every - k0 // every - 1
                 rec.out[row] = self.work.y_old[rec.nodes, rec.fields]
-            if k < k1 and gauge(self.work.y_old, gate) >= gate.limit:
+            if gate.limit < np.inf and closes(self.work.y_old, gate):
                 return k - k0, None
         return k1 - k0, None
 
     def _span(self, i: int) -> tuple[float, float]:
         return float(self.times[i]), float(self.times[i + 1])
-
-    def _forcing(self, k: int, j: int) -> Forcing:
-        s = slice(k, j + 1)
-        field = self.src.field_at(self.times[s])
-        return Forcing(self.gL[s], self.gR[s], self.src.q_space, self.qt[s], field)
 
     def summary(self, done: int) -> dict[str, Any]:
         """What the controller did on the first ``done`` intervals, for the run's ``meta``."""

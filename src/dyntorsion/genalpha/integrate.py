@@ -15,9 +15,9 @@ from .control import Adaptive
 from .discrete import setup
 from .guard import check_memory, check_time_grid
 from .long import LongPhase
-from .march import NO_GATE, Forcing, Recording, full_newton_iterations, gauge, march
+from .march import NO_GATE, Recording, closed, full_newton_iterations, gauge, march
 from .newton import REASONS, ConvergenceError, Newton, Status
-from .plan import Plan, Source, gate_of, initial_rate
+from .plan import Levels, Plan, Source, gate_of, initial_rate
 from .scheme import Scheme
 from .system import Boundary, System
 
@@ -189,15 +189,15 @@ def integrate(
     con, work, fac = setup(system, scheme, n_cells, ds, dt, left, right, y0, rate0)
     opts = newton.options()
     plan = Plan.of(system, n1, n_steps, t0, dt, record, record_every, snapshots, stop, check_every)
-    gL, gR, q_time = left.at(times), right.at(times), src.time_factor(times)
+    levels = Levels.of(times, left, right, src)
 
     rec_t, rec_vals = [t0], [y0[plan.nodes, plan.fields].copy()]
     snap_t, snap_y = ([t0], [y0.copy()]) if 0 in plan.snap_steps else ([], [])
     stats = np.zeros((n_steps, 5))
     adaptive = None
     if scheme.control is not None:
-        ctx = (con, work, fac, opts, times, gL, gR, q_time)
-        adaptive = Adaptive(scheme.control, system, scheme, ds, dt, left, right, src, ctx)
+        ctx = (con, work, fac, opts)
+        adaptive = Adaptive(scheme.control, system, scheme, ds, dt, left, right, levels, ctx)
     stopped, failure, done = "t_end", None, 0
     if progress is None:
         progress = n_steps * n1 * nf > 5e7
@@ -232,17 +232,13 @@ def integrate(
             )
             failure = None
             if in_long:
-                grid = (times, gL, gR, q_time, src)
                 reached = long.chunk(
-                    k0, k1, system, fac, opts, grid, plan, stats[k0:k1], rec_t, rec_vals
+                    k0, k1, system, fac, opts, levels, plan, stats[k0:k1], rec_t, rec_vals
                 )
                 completed = reached - k0
             elif adaptive is None:
-                forcing = Forcing(
-                    gL[chunk], gR[chunk], src.q_space, q_time[chunk], src.field_at(times[chunk])
-                )
                 completed, outcome = march(
-                    system.F, system.dF, con, work, fac, opts, forcing, rec,
+                    system.F, system.dF, con, work, fac, opts, levels.forcing(chunk), rec,
                     gate if quiet else NO_GATE, stats[k0:k1],
                 )  # fmt: skip
                 if completed < k1 - k0 and outcome.status != Status.CONVERGED:
@@ -272,7 +268,7 @@ def integrate(
             if done in plan.snap_steps:
                 snap_t.append(float(times[done]))
                 snap_y.append(work.y_old.copy())
-            if quiet and gauge(work.y_old, gate) >= gate.limit:
+            if quiet and closed(gate):
                 quiet = False
             due = done in plan.checks or (in_long and done == k1)
             if stop is not None and done < n_steps and not quiet and due:

@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 
 from .discrete import constants
-from .march import Forcing, Recording, gauge, make_gate, march
+from .march import Recording, closed, gauge, make_gate, march
 from .newton import REASONS, Status
 from .scheme import LongSteps
 
@@ -54,16 +54,15 @@ class LongPhase:
             return None
         return k
 
-    def chunk(self, k0, k1, system, fac, opts, grid, plan, stats, rec_t, rec_vals):
+    def chunk(self, k0, k1, system, fac, opts, levels, plan, stats, rec_t, rec_vals):
         """March long steps from level k0 to k1 (a multiple of factor steps); append
         the recorded levels to rec_t, rec_vals and each step's statistics to the row
         of its last interval.  Returns the level reached."""
-        times, gL, gR, q_time, src = grid
-        work = self.work
+        times, work = levels.times, self.work
         f = self.factor
         idx = np.arange(k0, k1 + 1, f)
         n = idx.size - 1
-        forcing = Forcing(gL[idx], gR[idx], src.q_space, q_time[idx], src.field_at(times[idx]))
+        forcing = levels.forcing(idx)
         rec = Recording(plan.fields, plan.nodes, 1, 0, np.zeros((n, len(plan.fields))))
         st = np.zeros((n, 5))
         if self.steps == 0:
@@ -83,7 +82,7 @@ class LongPhase:
         if out.status != Status.CONVERGED:
             self._stop(f"newton: {REASONS.get(Status(out.status), 'unknown')} at t = "
                        f"{float(times[idx[done + 1]]):.6g}")  # fmt: skip
-        elif self.gate.state[2] != 0.0:
+        elif closed(self.gate):
             self._stop(_WHY[self.gate.state[2]])
         return k0 + f * done
 

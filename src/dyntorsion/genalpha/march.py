@@ -21,6 +21,7 @@ __all__ = [
     "make_gate",
     "gauge",
     "closes",
+    "closed",
     "march",
     "full_newton_iterations",
 ]
@@ -109,6 +110,11 @@ def closes(y, gate):
     st[3], st[4], st[5] = st[4], st[5], g
     st[0] = seen + 1
     return False
+
+
+def closed(gate: Gate) -> bool:
+    """Whether :func:`closes` has closed ``gate`` at some level."""
+    return gate.state[2] != 0.0
 
 
 @jit(

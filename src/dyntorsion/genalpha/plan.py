@@ -10,9 +10,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from .initial import consistent_rates
-from .march import NO_GATE, Gate, make_gate
+from .march import NO_GATE, Forcing, Gate, make_gate
 
-__all__ = ["QUIET_CHUNK", "Plan", "Source", "gate_of", "initial_rate"]
+__all__ = ["QUIET_CHUNK", "Levels", "Plan", "Source", "gate_of", "initial_rate"]
 
 #: the longest chunk of steps marched in one compiled call while a gate is open
 QUIET_CHUNK = 4096
@@ -54,6 +54,31 @@ class Source:
         if self.field is not None:
             q = q + self.field(self.s, t)
         return q
+
+
+@dataclass(frozen=True)
+class Levels:
+    """The time levels t_i of the fixed grid and the boundary values and source at each."""
+
+    times: np.ndarray
+    gL: np.ndarray
+    gR: np.ndarray
+    q_time: np.ndarray
+    src: Source
+
+    @classmethod
+    def of(cls, times: np.ndarray, left, right, src: Source) -> Levels:
+        return cls(times, left.at(times), right.at(times), src.time_factor(times), src)
+
+    def forcing(self, index) -> Forcing:
+        """The :class:`~.march.Forcing` of the levels ``index`` (a slice or an index array)."""
+        return Forcing(
+            self.gL[index],
+            self.gR[index],
+            self.src.q_space,
+            self.q_time[index],
+            self.src.field_at(self.times[index]),
+        )
 
 
 def initial_rate(system, y0, ds, y_t0, source: Source, t0) -> np.ndarray:

@@ -138,9 +138,9 @@ class LongSteps:
     def __post_init__(self) -> None:
         if not (isinstance(self.factor, int) and 2 <= self.factor <= 4096):
             raise ValueError(f"long_steps factor={self.factor!r} must be an integer in [2, 4096]")
-        if not (isinstance(self.limit, int | float) and math.isfinite(self.limit)):
-            raise ValueError(f"long_steps limit={self.limit!r} must be a finite number > 0")
-        if not self.limit > 0:
+        if not (
+            isinstance(self.limit, int | float) and math.isfinite(self.limit) and self.limit > 0
+        ):
             raise ValueError(f"long_steps limit={self.limit!r} must be a finite number > 0")
         if not (isinstance(self.tol, int | float) and 0 < self.tol < 1):
             raise ValueError(f"long_steps tol={self.tol!r} must be a number in (0, 1)")
