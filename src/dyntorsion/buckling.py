@@ -18,18 +18,15 @@ from . import shapes
 from .delay_law import PowerLawFit, fit_power_law
 from .genalpha import ConvergenceError, Newton, Run, Scheme, integrate
 from .genalpha.guard import check_time_grid, real
-from .genalpha.march import gauge, make_gate
 from .loading import AxialLoad, Ends, History, Ramp
 from .loading import ends as _ends
 from .model import Cosserat
 from .onset import (
-    PEAK_FALL,
     STATUSES,
     Onset,
     check_window,
     classify_onset,
     detect_onset,
-    reference_level,
 )
 from .postbuckling import diagnose
 from .rod import Rod
@@ -40,6 +37,7 @@ from .statics import (
     critical_twist_numerical,
     m_cri,
 )
+from .stops import STRAIGHT, scene_stop
 
 __all__ = [
     "M_CRI_MP",
@@ -152,8 +150,6 @@ class GridWarning(UserWarning):
 #: over the bending time T0, and Courant number c dt / ds of the torsional waves
 TESTED_DT_OVER_T0 = (0.00125 / 43.8178046004133, 0.02 / 43.8178046004133)
 TESTED_COURANT = (1.8, 462.0)
-#: total bending turn ds * sum_j |kappa_perp| below which no self-contact can be (contact())
-_STRAIGHT = np.pi / 3
 
 
 def check_grid(rod: Rod, n_cells: int, dt: float) -> None:
@@ -266,56 +262,18 @@ def simulate(
     n_cells = int(n_cells)
     check_grid(rod, n_cells, dt)
     s = np.linspace(0.0, rod.L, n_cells + 1)
-    ds = rod.L / n_cells
     y0 = np.zeros((n_cells + 1, 12))
     y0[:, system.index("k3")] = hist(np.zeros(1))[0]
     y0[:, system.index("n3")] = load(np.zeros(1))[0]
     left, right = end_set.rows(system, hist, load)
     q = model.external_force(perturbation.force(s, rod.L))
 
-    bending = ("k1", "k2")
-    turn = make_gate([system.index(f) for f in bending], ds, _STRAIGHT)  # ds sum_j |kappa_perp|
     if check_every is None:
         check_every = 1 if scheme.control is not None else max(1, int(round(0.1 / dt)))
-    previous: list[np.ndarray] = []  # the last centreline checked (every level: crossings)
-
-    def contact(t, y):
-        # a centreline whose tangent turns by less than pi/3 in all keeps points an arc
-        # length l apart at least l cos(pi/6) > l/2 apart: no contact (min_arc = 2 d)
-        if gauge(y, turn) < _STRAIGHT:
-            previous.clear()
-            return None
-        r = shapes.shape(y, ds)
-        hit = shapes.self_contact(r, rod.thickness)
-        if hit is not None:
-            d, i, j = hit
-            return f"self-contact at t = {t:.6g} s (segments {i} and {j}, distance {d:.3g} m)"
-        crossed = shapes.crossing(previous[0], r, rod.thickness) if previous else None
-        previous[:] = [r] if check_every == 1 else []
-        if crossed is not None:
-            i, j = crossed
-            return (
-                f"self-contact at t = {t:.6g} s (segments {i} and {j} passed through each "
-                "other since the previous level)"
-            )
-        return None
-
-    i_u3, u_ref = system.index("u3"), reference_level(rod)
-    peak = [0.0]  # running maximum of |u3(L)| at the checks since it reached u_ref
-
-    def first_peak_passed(t, y):
-        u = abs(float(y[-1, i_u3]))
-        if u >= u_ref or peak[0] > 0.0:
-            peak[0] = max(peak[0], u)
-            if u < PEAK_FALL * peak[0]:
-                return f"first peak of |u3(L)| passed at t = {t:.6g} s"
-        return None
-
-    def stop(t, y):
-        return (contact(t, y) if stop_at_contact else None) or (
-            first_peak_passed(t, y) if stop_after_first_peak else None
-        )
-
+    stop = scene_stop(
+        system, rod, n_cells, contact=stop_at_contact, first_peak=stop_after_first_peak,
+        every_level=check_every == 1,
+    )  # fmt: skip
     try:
         run = integrate(
             system,
@@ -339,10 +297,10 @@ def simulate(
             newton=newton,
             stop=stop if (stop_at_contact or stop_after_first_peak) else None,
             check_every=check_every,
-            # contact() returns None below _STRAIGHT (the same gauge): the march skips it
-            # in long chunks (the first-peak test then starts at the first check past it:
-            # it can only stop later, never before the fall after the first peak)
-            stop_gate=(bending, _STRAIGHT) if stop_at_contact else None,
+            # the contact test does nothing below STRAIGHT (the same gauge): the march
+            # skips it in long chunks (the first-peak test then starts at the first check
+            # past it: it can only stop later, never before the fall after the first peak)
+            stop_gate=(("k1", "k2"), STRAIGHT) if stop_at_contact else None,
             progress=progress,
         )
     except ConvergenceError as raw:

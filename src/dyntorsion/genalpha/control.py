@@ -23,6 +23,7 @@ from .discrete import constants
 from .march import NO_GATE, Forcing, Gate, Recording, closes, march
 from .newton import REASONS, ConvergenceError, Status
 from .scheme import StepControl
+from .watch import NO_WATCH, Watch, never
 
 __all__ = ["Adaptive"]
 
@@ -73,8 +74,8 @@ class Adaptive:
         rec = Recording(np.zeros(0, np.int64), np.zeros(0, np.int64), _NEVER, 0, np.zeros((0, 0)))
         one = np.zeros((1, 5))
         done, out = march(
-            self.system.F, self.system.dF, self._constants(m), self.work, self.fac, self.opts,
-            forcing, rec, NO_GATE, one,
+            self.system.F, self.system.dF, never, self._constants(m), self.work, self.fac,
+            self.opts, forcing, rec, NO_GATE, NO_WATCH, one,
         )  # fmt: skip
         stats[0:3] += one[0, 0:3]
         stats[3] = one[0, 3]
@@ -127,10 +128,14 @@ class Adaptive:
         return None
 
     # -------------------------------------------------------------- a chunk
-    def chunk(self, k0: int, k1: int, rec: Recording, stats: np.ndarray, gate: Gate = NO_GATE):
+    def chunk(
+        self, k0: int, k1: int, rec: Recording, stats: np.ndarray, gate: Gate = NO_GATE,
+        test=never, watch: Watch = NO_WATCH,
+    ):  # fmt: skip
         """Advance from level k0 to k1 (what :func:`march` does without control):
         (levels completed, failure or None); rec.out gets the recorded levels.  Fewer
-        levels than asked and no failure: ``gate`` closed the chunk."""
+        levels than asked and no failure: ``gate`` closed the chunk, or ``test`` said
+        stop at a level of ``watch``."""
         every = rec.every
         k = k0
         while k < k1:
@@ -145,8 +150,8 @@ class Adaptive:
                 sub = Recording(rec.fields, rec.nodes, every, k, rec.out[row:])
                 forcing = self.levels.forcing(slice(k, j + 1))
                 done, out = march(
-                    self.system.F, self.system.dF, self.con, self.work, self.fac, self.opts,
-                    forcing, sub, gate, stats[k - k0 : j - k0],
+                    self.system.F, self.system.dF, test, self.con, self.work, self.fac,
+                    self.opts, forcing, sub, gate, watch, stats[k - k0 : j - k0],
                 )  # fmt: skip
                 k += done
                 if k == j:
@@ -170,6 +175,9 @@ class Adaptive:
                 rec.out[row] = self.work.y_old[rec.nodes, rec.fields]
             if gate.limit < np.inf and closes(self.work.y_old, gate):
                 return k - k0, None
+            if watch.every > 0 and k % watch.every == 0 and k < watch.until:
+                if test(self.work.y_old, watch):
+                    return k - k0, None
         return k1 - k0, None
 
     def _span(self, i: int) -> tuple[float, float]:

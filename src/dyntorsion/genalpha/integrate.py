@@ -20,6 +20,7 @@ from .newton import REASONS, ConvergenceError, Newton, Status
 from .plan import Levels, Plan, Source, gate_of, initial_rate
 from .scheme import Scheme
 from .system import Boundary, System
+from .watch import NO_WATCH, CompiledStop, never
 
 __all__ = ["Run", "integrate", "newton_iteration_kernel"]
 
@@ -135,7 +136,7 @@ def integrate(
     record_every: int = 1,
     snapshots: Sequence[float] = (),
     newton: Newton = Newton(),
-    stop: Callable[[float, np.ndarray], str | None] | None = None,
+    stop: Callable[[float, np.ndarray], str | None] | CompiledStop | None = None,
     check_every: int | None = None,
     stop_gate: tuple[Sequence[str], float] | None = None,
     progress: bool | None = None,
@@ -166,7 +167,9 @@ def integrate(
         is kept and every recorded level lies on it.  With ``scheme.long_steps`` (a
         :class:`LongSteps`) the run starts with steps of a multiple of dt while the
         solution is quiet (:mod:`.long`), recording only the levels they reach.
-    stop : callable (t, y) -> reason or None, checked every ``check_every`` steps.
+    stop : callable (t, y) -> reason or None, checked every ``check_every`` steps (and
+        at the snapshots), or a :class:`~.watch.CompiledStop` consulted at the same
+        levels by the compiled march itself.
     stop_gate : (fields, limit): ``stop`` is known to return None at every level y
         with ``ds * sum_j norm(y_j[fields]) < limit`` (the Euclidean norm over the
         fields), so until the first level at which that sum reaches ``limit`` (checked
@@ -207,6 +210,9 @@ def integrate(
 
         bar = tqdm(total=n_steps, unit="step", disable=None, leave=False)
     gate = gate_of(system, stop_gate, ds, stop)
+    test, watch = never, NO_WATCH
+    if isinstance(stop, CompiledStop):
+        test, watch = stop.test, stop.watch(plan.check, n_steps)
     quiet = gate.limit < math.inf and gauge(work.y_old, gate) < gate.limit
     long = None
     if scheme.long_steps is not None:
@@ -231,6 +237,7 @@ def integrate(
                 np.zeros((rec_steps.size, len(plan.fields))),
             )
             failure = None
+            watched = watch.every > 0 and not quiet and not in_long
             if in_long:
                 reached = long.chunk(
                     k0, k1, system, fac, opts, levels, plan, stats[k0:k1], rec_t, rec_vals
@@ -238,8 +245,9 @@ def integrate(
                 completed = reached - k0
             elif adaptive is None:
                 completed, outcome = march(
-                    system.F, system.dF, con, work, fac, opts, levels.forcing(chunk), rec,
-                    gate if quiet else NO_GATE, stats[k0:k1],
+                    system.F, system.dF, test, con, work, fac, opts, levels.forcing(chunk),
+                    rec, gate if quiet else NO_GATE, NO_WATCH if quiet else watch,
+                    stats[k0:k1],
                 )  # fmt: skip
                 if completed < k1 - k0 and outcome.status != Status.CONVERGED:
                     failure = ConvergenceError(
@@ -252,7 +260,7 @@ def integrate(
                     )
             else:
                 completed, failure = adaptive.chunk(
-                    k0, k1, rec, stats[k0:k1], gate if quiet else NO_GATE
+                    k0, k1, rec, stats[k0:k1], *((gate,) if quiet else (NO_GATE, test, watch))
                 )
             done = k0 + completed
             if not in_long:
@@ -270,7 +278,12 @@ def integrate(
                 snap_y.append(work.y_old.copy())
             if quiet and closed(gate):
                 quiet = False
-            due = done in plan.checks or (in_long and done == k1)
+            if watched and done % watch.every == 0 and done < n_steps:
+                if stop.fired():  # the march consulted the test at this level
+                    stopped = stop.reason(float(times[done]), stop.state)
+                    break
+                continue
+            due = plan.due(done) or (in_long and done == k1)
             if stop is not None and done < n_steps and not quiet and due:
                 reason = stop(float(times[done]), work.y_old)
                 if reason:

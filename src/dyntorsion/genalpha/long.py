@@ -14,6 +14,7 @@ from .discrete import constants
 from .march import Recording, closed, gauge, make_gate, march
 from .newton import REASONS, Status
 from .scheme import LongSteps
+from .watch import NO_WATCH, never
 
 __all__ = ["LongPhase"]
 
@@ -68,7 +69,8 @@ class LongPhase:
         if self.steps == 0:
             work.factored[0] = 0  # the factors of dt do not fit H
         done, out = march(
-            system.F, system.dF, self.con, work, fac, opts, forcing, rec, self.gate, st
+            system.F, system.dF, never, self.con, work, fac, opts, forcing, rec, self.gate,
+            NO_WATCH, st,
         )  # fmt: skip
         levels = idx[1 : done + 1]
         stats[levels - 1 - k0] = st[:done]

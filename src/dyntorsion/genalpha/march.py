@@ -12,6 +12,7 @@ from .. import _abd
 from .._numba import A1, A2, A3, I1, JACOBIAN_SIGNATURE, LOAD_SIGNATURE, jit, named
 from .discrete import CONSTANTS, WORK, factor, prepare_step, residual, solve_neg
 from .newton import _CONVERGED, NEWTON_OPTIONS, OUTCOME, NewtonOptions, Outcome, solve_step
+from .watch import STOP_SIGNATURE, WATCH
 
 __all__ = [
     "Forcing",
@@ -74,6 +75,7 @@ GATE = named(Gate, I1, numba.float64, numba.float64, numba.float64, A1)
 NO_GATE = make_gate(np.zeros(0, np.int64), 0.0, np.inf)
 _F = numba.types.FunctionType(LOAD_SIGNATURE)
 _DF = numba.types.FunctionType(JACOBIAN_SIGNATURE)
+_STOP = numba.types.FunctionType(STOP_SIGNATURE)
 
 
 @jit(signature=numba.float64(A2, GATE))
@@ -119,17 +121,20 @@ def closed(gate: Gate) -> bool:
 
 @jit(
     signature=numba.types.Tuple((numba.int64, OUTCOME))(
-        _F, _DF, CONSTANTS, WORK, _abd.FACTORS, NEWTON_OPTIONS, FORCING, RECORDING, GATE, A2
+        _F, _DF, _STOP, CONSTANTS, WORK, _abd.FACTORS, NEWTON_OPTIONS, FORCING, RECORDING,
+        GATE, WATCH, A2,
     )
-)
-def march(F, dF, con, w, fac, opts, forcing, rec, gate, stats):
+)  # fmt: skip
+def march(F, dF, test, con, w, fac, opts, forcing, rec, gate, watch, stats):
     """Advance len(forcing.gL) - 1 steps from w.y_old, w.rate_old.
 
     ``stats[k]`` <- corrections, residual evaluations, factorisations, residual and
     retries of step k.  Returns the number of steps completed and the last
     :class:`Outcome`.  Fewer steps than asked: a failure, or, with a converged
     outcome, the ``gate`` closed the chunk after its last completed step (it is
-    consulted at every level, the last one too: ``gate.state[2]`` says).
+    consulted at every level, the last one too: ``gate.state[2]`` says), or
+    ``test(y, watch)`` (a :class:`~.watch.Watch`, consulted at its levels
+    ``rec.offset + k + 1``) said stop.
     """
     co = con.co
     yo, ao, y = w.y_old, w.rate_old, w.y
@@ -183,6 +188,10 @@ def march(F, dF, con, w, fac, opts, forcing, rec, gate, stats):
             nrec += 1
         if gate.limit < np.inf and closes(yo, gate):
             return k + 1, out
+        level = rec.offset + k + 1
+        if watch.every > 0 and level % watch.every == 0 and level < watch.until:
+            if test(yo, watch):
+                return k + 1, out
     return nsteps, out
 
 

@@ -11,6 +11,7 @@ import numpy as np
 
 from .initial import consistent_rates
 from .march import NO_GATE, Forcing, Gate, make_gate
+from .watch import CompiledStop
 
 __all__ = ["QUIET_CHUNK", "Levels", "Plan", "Source", "gate_of", "initial_rate"]
 
@@ -96,15 +97,19 @@ def initial_rate(system, y0, ds, y_t0, source: Source, t0) -> np.ndarray:
 
 @dataclass(frozen=True)
 class Plan:
-    """What to record and keep, and the chunks of steps between checks."""
+    """What to record and keep, where ``stop`` is due (every ``check`` steps, at the
+    snapshots and at the last level) and where the chunks of steps end: at every check,
+    or, for a :class:`~.watch.CompiledStop` that the march consults itself
+    (``compiled``), only at the snapshots, at most :data:`QUIET_CHUNK` steps on."""
 
     names: tuple[str, ...]
     fields: np.ndarray
     nodes: np.ndarray
     every: int
     snap_steps: list[int]
-    bounds: list[int]
-    checks: set[int]
+    n_steps: int
+    check: int
+    compiled: bool
 
     @classmethod
     def of(cls, system, n1, n_steps, t0, dt, record, record_every, snapshots, stop, check_every):
@@ -122,21 +127,27 @@ class Plan:
         check = n_steps if (stop is None and check_every is None) else (check_every or 100)
         if check < 1:
             raise ValueError(f"check_every={check_every!r} must be >= 1")
-        bounds = sorted({0, n_steps, *snap_steps, *range(0, n_steps, check)})
-        return cls(tuple(rec), fields, nodes, record_every, snap_steps, bounds, set(bounds))
+        return cls(
+            tuple(rec), fields, nodes, record_every, snap_steps, n_steps, max(check, 1),
+            isinstance(stop, CompiledStop),
+        )  # fmt: skip
+
+    def due(self, k: int) -> bool:
+        """Whether ``stop`` is due at level k."""
+        return k % self.check == 0 or k == self.n_steps or k in self.snap_steps
 
     def next_end(self, k0: int, quiet: bool) -> int:
-        """Where the chunk from level k0 ends: the next bound, or while ``quiet`` (the
-        gate below its limit: no check is due) the next snapshot, at most
-        :data:`QUIET_CHUNK` steps on."""
-        if quiet:
+        """Where the chunk from level k0 ends: the next level where ``stop`` is due, or,
+        while ``quiet`` (the gate below its limit: no check is due) or with a compiled
+        stop, the next snapshot, at most :data:`QUIET_CHUNK` steps on."""
+        if quiet or self.compiled:
             return min(self.landing(k0), k0 + QUIET_CHUNK)
-        return self.bounds[bisect.bisect_right(self.bounds, k0)]
+        return min(self.landing(k0), (k0 // self.check + 1) * self.check)
 
     def landing(self, k0: int) -> int:
         """The next level after k0 that a run must land on: a snapshot or the last."""
         i = bisect.bisect_right(self.snap_steps, k0)
-        return self.snap_steps[i] if i < len(self.snap_steps) else self.bounds[-1]
+        return self.snap_steps[i] if i < len(self.snap_steps) else self.n_steps
 
 
 def gate_of(system, stop_gate, ds: float, stop) -> Gate:
