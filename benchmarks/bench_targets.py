@@ -20,8 +20,9 @@ Newton counts per step of the Fig 8 scene are printed too (they do not depend on
 * the 16-rate Fig 10 sweep at the standard grid (N = 100, dt = 0.005 s), one core,
   nothing cached (floor 2 s), run to self-contact and ended after the first peak
   (``Scene(until="first-peak")``, the same onsets);
-  and the same with ``Scheme(long_steps=LongSteps())`` (steps of 8 dt while the rod is
-  straight; the largest change of t_c against the run at dt is printed);
+  and the same with ``long_steps=LongSteps()`` added to the preset's scheme (steps of
+  8 dt while the rod is straight; the largest change of t_c against the run at dt is
+  printed);
 * the fast onset estimate (``linear_predictions.estimate``), median per Fig 10
   scene in ms (floor 10 ms);
 * the linear prediction of the Fig 10 scene a = 1.6, with the torsional waves and on
@@ -104,7 +105,10 @@ except TypeError:
     res["fig10_peak_s"] = res["fig10_sweep_s"]
 try:
     from dyntorsion.genalpha import LongSteps, Scheme
-    longs = [replace(sc, until="first-peak", scheme=Scheme(long_steps=LongSteps())) for sc in scenes]
+    longs = [
+        replace(sc, until="first-peak", scheme=replace(sc.scheme, long_steps=LongSteps()))
+        for sc in scenes
+    ]
     out = []
     res["fig10_long_s"] = median(lambda: out.extend([S.run_scene(sc) for sc in longs]), 1)
     ref = [S.run_scene(sc) for sc in short]

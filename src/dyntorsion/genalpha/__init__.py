@@ -40,6 +40,7 @@ Where each part lives:
 * :mod:`.march` -- the compiled time march and the rate update of eq (11);
 * :mod:`.control` -- step-size control: rejected steps retried with half the step;
 * :mod:`.long` -- long steps while the solution is quiet;
+* :mod:`.watch` -- stop tests compiled, consulted by the march itself;
 * :mod:`.integrate` -- the driver (validation, sources, initial rate, recording,
   chunks between checks) and the :class:`Run`;
 * :mod:`.initial` -- consistent initial rates and states.
