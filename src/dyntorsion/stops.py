@@ -7,9 +7,9 @@ step.
   section 4, :func:`~dyntorsion.shapes.shape`) closer than the rod's thickness, or,
   checked at every level, a pair of segments that passed through each other since the
   previous level (:func:`~dyntorsion.shapes.crossing`).  A centreline whose tangent
-  turns by less than :data:`STRAIGHT` in all (ds sum_j |kappa_perp|) keeps points an
+  turns by less than :data:`STRAIGHT` in all (``ds sum_j |kappa_perp|``) keeps points an
   arc length l apart at least l cos(pi/6) > l/2 apart: no contact, nothing computed.
-* First peak: |u3(L, t)|, having reached u_ref = L / T0, has fallen below
+* First peak: ``|u3(L, t)|``, having reached u_ref = L / T0, has fallen below
   :data:`~dyntorsion.onset.PEAK_FALL` of its running maximum.
 """
 
@@ -26,7 +26,7 @@ from .rod import Rod
 
 __all__ = ["STRAIGHT", "scene_stop", "scene_test"]
 
-#: total bending turn ds * sum_j |kappa_perp| below which no self-contact can be
+#: total bending turn ``ds * sum_j |kappa_perp|`` below which no self-contact can be
 STRAIGHT = np.pi / 3
 
 # params
@@ -96,7 +96,7 @@ def scene_stop(
     system, rod: Rod, n_cells: int, *, contact: bool, first_peak: bool, every_level: bool
 ) -> CompiledStop:
     """The stop of one buckling run: at self-contact (``contact``; crossings too when
-    the run is checked at ``every_level``) and/or after the first peak of |u3(L)|."""
+    the run is checked at ``every_level``) and/or after the first peak of ``|u3(L)|``."""
     n1 = n_cells + 1
     params = np.zeros(12)
     params[_DS], params[_DIAMETER] = rod.L / n_cells, rod.thickness
