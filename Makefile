@@ -24,7 +24,7 @@ $(VENV)/.docs-installed: pyproject.toml | $(PY)
 
 ## test: every notebook of the site at quick fidelity, then the fast test suite (what CI runs)
 test: $(VENV)/.test-installed
-	DYNTORSION_FIDELITY=quick $(PY) -m sphinx -E -q -W --keep-going -b html docs docs/_build/quick
+	DYNTORSION_FIDELITY=quick $(PY) -m sphinx -E -q -W --keep-going -j auto -b html docs docs/_build/quick
 	$(PY) -m pytest -m "not slow" -q
 
 ## test-all: every test, including the long `slow` ones, property tests at many examples
@@ -34,7 +34,7 @@ test-all: $(VENV)/.test-installed
 ## paper: recompute missing or stale data, regenerate every figure (paper/figures) and
 ## the at-a-glance numbers (paper/numbers.json), and build the documentation site
 paper: $(VENV)/.docs-installed data
-	$(PY) -m sphinx -E -W --keep-going -b html docs docs/_build/html
+	$(PY) -m sphinx -E -W --keep-going -j auto -b html docs docs/_build/html
 	@echo
 	@echo "Site built: open docs/_build/html/index.html"
 
@@ -66,7 +66,7 @@ $(VENV)/.site-installed: pyproject.toml | $(PY)
 site-check: $(VENV)/.site-installed
 	@command -v chromium >/dev/null || { apt-get update -q && apt-get install -y -q chromium; }
 	@test -f $(SITE)/index.html || test "$(SITE)" != docs/_build/quick || \
-	  DYNTORSION_FIDELITY=quick $(PY) -m sphinx -E -q -W --keep-going -b html docs $(SITE)
+	  DYNTORSION_FIDELITY=quick $(PY) -m sphinx -E -q -W --keep-going -j auto -b html docs $(SITE)
 	@test -f $(SITE)/index.html || { echo "site-check: no site in $(SITE) (make docs)"; exit 1; }
 	$(PY) docs/site_check.py $(SITE) --screens docs/_build/screens --self-test
 

@@ -1,6 +1,10 @@
 """Sphinx configuration of the dyntorsion replication site."""
 
+import sys
 from importlib.metadata import version as _version
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).parent / "_ext"))
 
 project = "dyntorsion"
 author = "The dyntorsion developers"
@@ -12,14 +16,14 @@ extensions = [
     "sphinx.ext.autodoc",
     "sphinx.ext.napoleon",
     "sphinx.ext.mathjax",
-    "sphinx-mathjax-offline",
+    "offline_mathjax",  # sphinx-mathjax-offline, parallel-safe (docs/_ext)
 ]
 myst_enable_extensions = ["dollarmath", "amsmath"]
 # notebooks always run: the jupyter cache would not see changes to src/
 nb_execution_mode = "force"
 nb_execution_raise_on_error = True
 nb_execution_timeout = 1800
-exclude_patterns = ["_build", "jupyter_execute", "**.ipynb_checkpoints", "site_check.py"]
+exclude_patterns = ["_build", "_ext", "jupyter_execute", "**.ipynb_checkpoints", "site_check.py"]
 html_theme = "alabaster"
 html_title = "dyntorsion"
 html_static_path = ["_static"]
