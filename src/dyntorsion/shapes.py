@@ -175,16 +175,24 @@ class FrameTracker:
 
 
 @jit
+def _dots(px, py, pz, qx, qy, qz, wx, wy, wz):
+    """p.p, p.q, q.q, p.w, q.w of two segment vectors p, q and the vector w."""
+    return (
+        px * px + py * py + pz * pz,
+        px * qx + py * qy + pz * qz,
+        qx * qx + qy * qy + qz * qz,
+        px * wx + py * wy + pz * wz,
+        qx * wx + qy * wy + qz * wz,
+    )
+
+
+@jit
 def _segment_distance(r, i, q, j):
     """Smallest distance between segment i of the centreline r and segment j of q."""
     d1x, d1y, d1z = r[i + 1, 0] - r[i, 0], r[i + 1, 1] - r[i, 1], r[i + 1, 2] - r[i, 2]
     d2x, d2y, d2z = q[j + 1, 0] - q[j, 0], q[j + 1, 1] - q[j, 1], q[j + 1, 2] - q[j, 2]
     wx, wy, wz = r[i, 0] - q[j, 0], r[i, 1] - q[j, 1], r[i, 2] - q[j, 2]
-    a = d1x * d1x + d1y * d1y + d1z * d1z
-    e = d2x * d2x + d2y * d2y + d2z * d2z
-    f = d2x * wx + d2y * wy + d2z * wz
-    c = d1x * wx + d1y * wy + d1z * wz
-    b = d1x * d2x + d1y * d2y + d1z * d2z
+    a, b, e, c, f = _dots(d1x, d1y, d1z, d2x, d2y, d2z, wx, wy, wz)
     denom = a * e - b * b
     s = min(max((b * f - c * e) / denom, 0.0), 1.0) if denom > 1e-14 * a * e else 0.0
     t = (b * s + f) / e
@@ -252,11 +260,7 @@ def _crossed(r, i, j, seg):
     wx, wy, wz = r[j, 0] - r[i, 0], r[j, 1] - r[i, 1], r[j, 2] - r[i, 2]
     dist = wx * (cx / norm) + wy * (cy / norm) + wz * (cz / norm)
     # closest points of the two lines: r_i + s p = r_j + t q (+ dist n)
-    a = px * px + py * py + pz * pz
-    b = px * qx + py * qy + pz * qz
-    e = qx * qx + qy * qy + qz * qz
-    c = px * wx + py * wy + pz * wz
-    f = qx * wx + qy * wy + qz * wz
+    a, b, e, c, f = _dots(px, py, pz, qx, qy, qz, wx, wy, wz)
     den = a * e - b * b
     s = (c * e - b * f) / den
     t = (b * c - a * f) / den
