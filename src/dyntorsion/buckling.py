@@ -21,13 +21,7 @@ from .genalpha.guard import check_time_grid, real
 from .loading import AxialLoad, Ends, History, Ramp
 from .loading import ends as _ends
 from .model import Cosserat
-from .onset import (
-    STATUSES,
-    Onset,
-    check_window,
-    classify_onset,
-    detect_onset,
-)
+from .onset import STATUSES, Onset, check_window, classify_onset, detect_onset
 from .postbuckling import diagnose
 from .rod import Rod
 from .statics import (
@@ -270,10 +264,12 @@ def simulate(
 
     if check_every is None:
         check_every = 1 if scheme.control is not None else max(1, int(round(0.1 / dt)))
-    stop = scene_stop(
-        system, rod, n_cells, contact=stop_at_contact, first_peak=stop_after_first_peak,
-        every_level=check_every == 1,
-    )  # fmt: skip
+    stop = None
+    if stop_at_contact or stop_after_first_peak:
+        stop = scene_stop(
+            system, rod, n_cells, contact=stop_at_contact, first_peak=stop_after_first_peak,
+            every_level=check_every == 1,
+        )  # fmt: skip
     try:
         run = integrate(
             system,
@@ -295,7 +291,7 @@ def simulate(
             },
             snapshots=snapshots,
             newton=newton,
-            stop=stop if (stop_at_contact or stop_after_first_peak) else None,
+            stop=stop,
             check_every=check_every,
             # the contact test does nothing below STRAIGHT (the same gauge): the march
             # skips it in long chunks (the first-peak test then starts at the first check

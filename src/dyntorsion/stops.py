@@ -30,7 +30,7 @@ __all__ = ["STRAIGHT", "scene_stop", "scene_test"]
 STRAIGHT = np.pi / 3
 
 # params
-_DS, _DIAMETER, _MIN_ARC, _K, _K1, _K2, _U, _U_REF, _FALL, _CONTACT, _PEAK, _EVERY_LEVEL = range(12)
+_DS, _DIAMETER, _MIN_ARC, _K1, _K2, _U, _U_REF, _FALL, _CONTACT, _PEAK, _EVERY_LEVEL = range(11)
 # state: code (0 going on, then one of the three below), previous centreline kept,
 # distance, segments i and j, running maximum of |u3(L)|
 _CODE, _HAS_PREVIOUS, _DISTANCE, _I, _J, _MAX = range(6)
@@ -50,7 +50,7 @@ def scene_test(y, watch):
             R = work[: 9 * n1].reshape((n1, 3, 3))
             r = work[9 * n1 : 12 * n1].reshape((n1, 3))
             previous = work[12 * n1 : 15 * n1].reshape((n1, 3))
-            k = int(p[_K])
+            k = int(p[_K1])  # k1, k2, k3 side by side
             shapes._shape(y[:, k : k + 3], p[_DS], np.eye(3), R, r)
             d, i, j = shapes._self_contact(r, p[_DIAMETER], p[_MIN_ARC])
             if i >= 0 and d < p[_DIAMETER]:
@@ -98,10 +98,10 @@ def scene_stop(
     """The stop of one buckling run: at self-contact (``contact``; crossings too when
     the run is checked at ``every_level``) and/or after the first peak of ``|u3(L)|``."""
     n1 = n_cells + 1
-    params = np.zeros(12)
+    params = np.zeros(11)
     params[_DS], params[_DIAMETER] = rod.L / n_cells, rod.thickness
     params[_MIN_ARC] = 2.0 * rod.thickness  # shapes' default: never neighbouring segments
-    params[_K], params[_K1], params[_K2] = (system.index(f) for f in ("k1", "k1", "k2"))
+    params[_K1], params[_K2] = system.index("k1"), system.index("k2")
     params[_U], params[_U_REF], params[_FALL] = system.index("u3"), reference_level(rod), PEAK_FALL
     params[_CONTACT], params[_PEAK] = float(contact), float(first_peak)
     params[_EVERY_LEVEL] = float(every_level)

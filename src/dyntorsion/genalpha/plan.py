@@ -128,7 +128,7 @@ class Plan:
         if check < 1:
             raise ValueError(f"check_every={check_every!r} must be >= 1")
         return cls(
-            tuple(rec), fields, nodes, record_every, snap_steps, n_steps, max(check, 1),
+            tuple(rec), fields, nodes, record_every, snap_steps, n_steps, check,
             isinstance(stop, CompiledStop),
         )  # fmt: skip
 
