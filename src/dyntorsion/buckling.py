@@ -292,7 +292,7 @@ def simulate(
             snapshots=snapshots,
             newton=newton,
             stop=stop,
-            check_every=check_every,
+            check_every=check_every if stop is not None else None,
             # the contact test does nothing below STRAIGHT (the same gauge): the march
             # skips it in long chunks (the first-peak test then starts at the first check
             # past it: it can only stop later, never before the fall after the first peak)

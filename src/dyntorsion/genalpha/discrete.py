@@ -24,11 +24,33 @@ import numba
 import numpy as np
 
 from .. import _abd
-from .._numba import A1, A2, A3, I1, jit, named
+from .._numba import A1, A2, A3, I1, I2, jit, named
 from .scheme import Coefficients, Scheme
 from .system import Boundary, System
 
 __all__ = ["Constants", "Work", "constants", "setup"]
+
+
+class Pattern(NamedTuple):
+    """The nonzero columns of one or more nf x nf matrices, row by row: row ``rr`` has
+    ``n[rr]`` of them, ``cols[rr, :n[rr]]`` in increasing order.  Sums over a row
+    visit only these, in the same order as the dense sum, so the skipped terms (exact
+    zeros times finite numbers) change no bit of the result."""
+
+    cols: np.ndarray
+    n: np.ndarray
+
+
+def pattern(*mats: np.ndarray) -> Pattern:
+    """The :class:`Pattern` of the union of the nonzeros of ``mats``."""
+    nz = np.zeros(mats[0].shape, dtype=bool)
+    for m in mats:
+        nz |= np.asarray(m) != 0
+    cols = np.zeros(nz.shape, dtype=np.int64)
+    n = nz.sum(axis=1).astype(np.int64)
+    for rr in range(nz.shape[0]):
+        cols[rr, : n[rr]] = np.nonzero(nz[rr])[0]
+    return Pattern(cols, n)
 
 
 class Constants(NamedTuple):
@@ -46,6 +68,8 @@ class Constants(NamedTuple):
     left_scale: np.ndarray
     right_rows: np.ndarray
     right_scale: np.ndarray
+    pq: Pattern  # where P or Q is nonzero: the residual's sums skip the exact zeros
+    mk: Pattern  # where M or K is nonzero: the same for the step's fixed part c_j
 
 
 class Work(NamedTuple):
@@ -74,7 +98,10 @@ class Work(NamedTuple):
 
 
 COEFFICIENTS = named(Coefficients, *([numba.float64] * 8), numba.boolean)
-CONSTANTS = named(Constants, A1, A2, A2, A2, A2, COEFFICIENTS, A1, A1, A2, A1, A2, A1)
+PATTERN = named(Pattern, I2, I1)
+CONSTANTS = named(
+    Constants, A1, A2, A2, A2, A2, COEFFICIENTS, A1, A1, A2, A1, A2, A1, PATTERN, PATTERN
+)
 WORK = named(Work, A2, A2, A2, A2, A1, A1, A2, A2, A2, A3, A2, A2, A2, A2, A1, A3, A3, A2, A2, I1)
 
 
@@ -148,6 +175,8 @@ def constants(
         left_scale=blsc,
         right_rows=BRr,
         right_scale=brsc,
+        pq=pattern(P, Q),
+        mk=pattern(system.M, system.K),
     )
 
 
@@ -164,10 +193,12 @@ def prepare_step(F, con, w, qs, qt_old, qt_new, qf_old, qf_new, use_qf):
             z[j, f] = -co.c_M * yo[j, f] + co.c_A * ao[j, f]
         if co.trapezoidal:
             F(yo[j], con.params, Fo[j])
+    mk = con.mk
     for j in range(N):
         for rr in range(nf):
             acc = 0.0
-            for f in range(nf):
+            for k in range(mk.n[rr]):
+                f = mk.cols[rr, k]
                 acc += con.M[rr, f] * ((1.0 - a_s) * z[j + 1, f] + a_s * z[j, f])
                 acc += bt * ids * con.K[rr, f] * (yo[j + 1, f] - yo[j, f])
             if co.trapezoidal:
@@ -194,7 +225,7 @@ def residual(F, dF, con, gL, gR, y, w, r, want_jac):
     quadrature points are left in w.F (w.dF) for :func:`factor`."""
     co = con.co
     Fn, dFn, c, ybo, ytmp = w.F, w.dF, w.c, w.y_bar_old, w.y_tmp
-    P, Q, rs = con.P, con.Q, con.rscale
+    P, Q, rs, pq = con.P, con.Q, con.rscale, con.pq
     N = y.shape[0] - 1
     nf = y.shape[1]
     nbl = con.left_rows.shape[0]
@@ -222,7 +253,8 @@ def residual(F, dF, con, gL, gR, y, w, r, want_jac):
         off = nbl + nf * j
         for rr in range(nf):
             acc = c[j, rr]
-            for f in range(nf):
+            for k in range(pq.n[rr]):
+                f = pq.cols[rr, k]
                 acc += P[rr, f] * y[j + 1, f] + Q[rr, f] * y[j, f]
             if trap:
                 acc += wn * Fn[j + 1, rr] + wp * Fn[j, rr]
