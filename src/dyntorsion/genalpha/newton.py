@@ -273,8 +273,10 @@ def solve_step(F, dF, con, gL, gR, w, fac, opts):
         fresh = True
     lam = 1.0
     theta_prev = np.inf
+    carried = -1.0  # the norm of dx at y when the last iteration left them (else -1)
     for it in range(opts.max_iter):
-        nd = _norm(dx, y, ys)
+        nd = carried if carried >= 0.0 else _norm(dx, y, ys)
+        carried = -1.0
         if not math.isfinite(nd):
             return Outcome(_NOT_FINITE, it, nres, nfact, res)
         if nd <= tol:
@@ -331,6 +333,7 @@ def solve_step(F, dF, con, gL, gR, w, fac, opts):
             return Outcome(_CONVERGED, it + 2, nres, nfact, res)
         if lam == 1.0 and theta <= opts.theta_reuse and opts.reuse:
             dx[:, :] = dxb
+            carried = ndb
             fresh = False
         else:
             res, status = _refactor(F, dF, con, gL, gR, w, fac)
