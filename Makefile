@@ -44,7 +44,7 @@ docs: paper
 ## grid check; linear-stability predictions); scenes already cached and current are kept.  JOBS local processes.
 JOBS ?= 2
 DATA_PRESETS := fig10 fig10-tiny-seed fig08-09 fig08-09-tiny-seed fig10-grid fig10-grid-tiny-seed \
-                accuracy-fig08 accuracy-fast newton-fig08 newton-fast fig08-seeds imperfection \
+                accuracy-fig08 accuracy-fast newton-fig08 newton-fast newton-fast-tiny-seed fig08-seeds imperfection \
                 mechanisms tension
 LINEAR_PRESETS := linear-fig10 linear-fig10-tiny-seed linear-imperfection linear-variants
 data: $(VENV)/.test-installed

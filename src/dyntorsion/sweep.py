@@ -241,8 +241,10 @@ def tension_scenes(fraction: float, rates: Iterable[float] = TENSION_RATES) -> l
     return [Scene(a=a, kappa0=kappa0, tension=T, seed=SEEDS["stated"]) for a in rates]
 
 
-def _newton(a: float, kappa0: float) -> list[Scene]:
-    return [Scene(a=a, kappa0=kappa0, newton=Newton(tol=tol)) for tol in NEWTON_TOLS]
+def _newton(a: float, kappa0: float, seed: str = "stated") -> list[Scene]:
+    return [
+        Scene(a=a, kappa0=kappa0, seed=SEEDS[seed], newton=Newton(tol=tol)) for tol in NEWTON_TOLS
+    ]
 
 
 #: name -> function returning the scenes; ``make data`` runs them all
@@ -257,6 +259,7 @@ PRESETS: dict[str, Callable[[], list[Scene]]] = {
     "accuracy-fast": lambda: _ladder(16.0, 10.0),
     "newton-fig08": lambda: _newton(1.6, 0.0),
     "newton-fast": lambda: _newton(16.0, 10.0),
+    "newton-fast-tiny-seed": lambda: _newton(16.0, 10.0, "tiny"),
     "fig08-seeds": _fig08_seeds,
     "imperfection": _imperfection,
     "mechanisms": _mechanisms,
