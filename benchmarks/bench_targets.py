@@ -104,7 +104,7 @@ try:
 except TypeError:
     res["fig10_peak_s"] = res["fig10_sweep_s"]
 try:
-    from dyntorsion.genalpha import LongSteps, Scheme
+    from dyntorsion.genalpha import LongSteps
     longs = [
         replace(sc, until="first-peak", scheme=replace(sc.scheme, long_steps=LongSteps()))
         for sc in scenes

@@ -220,8 +220,9 @@ def simulate(
     at which two non-neighbouring parts of the centreline come closer than the
     rod's thickness; ``result.stopped`` says which ("t_end" or "self-contact ...").
     With ``stop_after_first_peak`` it ends, too, at the first check at which
-    ``|u3(L, t)|``, having reached u_ref = L / T0, has fallen below 0.7 of its running
-    maximum: the trace then holds the first peak and the fall after it, all that
+    ``|u3(L, t)|``, having reached u_ref = L / T0, has fallen below
+    :data:`~dyntorsion.onset.PEAK_FALL` (0.7) of its running maximum: the trace then
+    holds the first peak and the fall after it, all that
     :func:`~dyntorsion.onset.detect_onset` and the rules of
     :mod:`~dyntorsion.onset_rules` read (they give the onset of the full run), and the
     whip after it is not computed.

@@ -92,8 +92,9 @@ def classify_onset(run: BucklingRun, onset: Onset | None, kappa_cri: float | Non
 
 def first_peak(U: np.ndarray, i_start: int) -> int:
     """The sample of the first peak of ``U = |u3(L, t)|`` after ``i_start``: the running
-    maximum at the first later sample where U has fallen below 0.7 of it (so the small
-    torsional-wave ripples on the rise do not count as a peak), or the largest sample."""
+    maximum at the first later sample where U has fallen below :data:`PEAK_FALL` (0.7) of
+    it (so the small torsional-wave ripples on the rise do not count as a peak), or the
+    largest sample."""
     running = np.maximum.accumulate(U[i_start:])
     drop = np.nonzero(U[i_start:] < PEAK_FALL * running)[0]
     end = i_start + (int(drop[0]) if drop.size else U.size - i_start)
@@ -125,8 +126,8 @@ def detect_onset(
     exceeds ``u_ref`` (default L / T0, T0 = L^2 sqrt(rho A / B1) the bending time
     scale: 0.023 m/s for Table 1, far above the prebuckling level and far below
     the first peak); its peak U_peak is the running maximum of U at the first
-    later sample where U has fallen below 0.7 of that running maximum (so the
-    small torsional-wave ripples on the rise do not count as a peak).  The fit
+    later sample where U has fallen below :data:`PEAK_FALL` (0.7) of that running
+    maximum (so the small torsional-wave ripples on the rise do not count as a peak).  The fit
     uses the samples from the first time U exceeds ``window[0] * U_peak`` to the
     first time it exceeds ``window[1] * U_peak``.  The same fit with each of
     ``variations`` gives the method's uncertainty: the largest ``|t_c - t_c(variation)|``.

@@ -19,7 +19,7 @@ import numpy as np
 
 from . import shapes
 from ._numba import jit
-from .genalpha.march import Gate, gauge
+from .genalpha.march import norm_sum
 from .genalpha.watch import STOP_SIGNATURE, CompiledStop
 from .onset import PEAK_FALL, reference_level
 from .rod import Rod
@@ -30,7 +30,9 @@ __all__ = ["STRAIGHT", "scene_stop", "scene_test"]
 STRAIGHT = np.pi / 3
 
 # params
-_DS, _DIAMETER, _MIN_ARC, _K1, _K2, _U, _U_REF, _FALL, _CONTACT, _PEAK, _EVERY_LEVEL = range(11)
+_DS, _DIAMETER, _MIN_ARC, _U_REF, _FALL, _CONTACT, _PEAK, _EVERY_LEVEL = range(8)
+# index: the fields k1, k2 (k3 follows k2) and u3
+_K1, _K2, _U = range(3)
 # state: code (0 going on, then one of the three below), previous centreline kept,
 # distance, segments i and j, running maximum of |u3(L)|
 _CODE, _HAS_PREVIOUS, _DISTANCE, _I, _J, _MAX = range(6)
@@ -40,18 +42,18 @@ _TOUCH, _CROSSED, _PEAKED = 1.0, 2.0, 3.0
 @jit(signature=STOP_SIGNATURE)
 def scene_test(y, watch):
     """Whether the buckling scene stops at the level y (see the module docstring)."""
-    p, st, work = watch.params, watch.state, watch.work
+    p, st, work, ix = watch.params, watch.state, watch.work, watch.index
     n1 = y.shape[0]
     if p[_CONTACT] != 0.0:
-        turn = Gate(np.array([int(p[_K1]), int(p[_K2])]), p[_DS], STRAIGHT, np.inf, np.zeros(6))
-        if gauge(y, turn) < STRAIGHT:
+        if norm_sum(y, ix[_K1 : _K2 + 1], p[_DS]) < STRAIGHT:
             st[_HAS_PREVIOUS] = 0.0
         else:
             R = work[: 9 * n1].reshape((n1, 3, 3))
             r = work[9 * n1 : 12 * n1].reshape((n1, 3))
             previous = work[12 * n1 : 15 * n1].reshape((n1, 3))
-            k = int(p[_K1])  # k1, k2, k3 side by side
-            shapes._shape(y[:, k : k + 3], p[_DS], np.eye(3), R, r)
+            frame0 = work[15 * n1 : 15 * n1 + 9].reshape((3, 3))
+            k = ix[_K1]  # k1, k2, k3 side by side
+            shapes._shape(y[:, k : k + 3], p[_DS], frame0, R, r)
             d, i, j = shapes._self_contact(r, p[_DIAMETER], p[_MIN_ARC])
             if i >= 0 and d < p[_DIAMETER]:
                 st[_CODE], st[_DISTANCE], st[_I], st[_J] = _TOUCH, d, i, j
@@ -68,7 +70,7 @@ def scene_test(y, watch):
                 st[_CODE], st[_I], st[_J] = _CROSSED, ci, cj
                 return True
     if p[_PEAK] != 0.0:
-        u = abs(y[n1 - 1, int(p[_U])])
+        u = abs(y[n1 - 1, ix[_U]])
         if u >= p[_U_REF] or st[_MAX] > 0.0:
             st[_MAX] = max(st[_MAX], u)
             if u < p[_FALL] * st[_MAX]:
@@ -98,11 +100,15 @@ def scene_stop(
     """The stop of one buckling run: at self-contact (``contact``; crossings too when
     the run is checked at ``every_level``) and/or after the first peak of ``|u3(L)|``."""
     n1 = n_cells + 1
-    params = np.zeros(11)
+    params = np.zeros(8)
     params[_DS], params[_DIAMETER] = rod.L / n_cells, rod.thickness
     params[_MIN_ARC] = 2.0 * rod.thickness  # shapes' default: never neighbouring segments
-    params[_K1], params[_K2] = system.index("k1"), system.index("k2")
-    params[_U], params[_U_REF], params[_FALL] = system.index("u3"), reference_level(rod), PEAK_FALL
+    params[_U_REF], params[_FALL] = reference_level(rod), PEAK_FALL
     params[_CONTACT], params[_PEAK] = float(contact), float(first_peak)
     params[_EVERY_LEVEL] = float(every_level)
-    return CompiledStop(scene_test, params, np.zeros(6), np.zeros(15 * n1), _reason)
+    index = np.array([system.index("k1"), system.index("k2"), system.index("u3")], np.int64)
+    if system.index("k3") != index[_K2] + 1:
+        raise ValueError("the contact test reads k1, k2, k3 as consecutive fields")
+    work = np.zeros(15 * n1 + 9)  # frames, centreline, previous centreline, left frame
+    work[15 * n1 :] = np.eye(3).ravel()
+    return CompiledStop(scene_test, params, np.zeros(6), work, _reason, index)

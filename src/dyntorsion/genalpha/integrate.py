@@ -226,16 +226,6 @@ def integrate(
                 k_long = long.end(k0, k1, plan.landing(k0))
                 in_long = k_long is not None
                 k1 = k_long if in_long else k1
-            chunk = slice(k0, k1 + 1)
-            first_rec = (k0 // record_every + 1) * record_every
-            rec_steps = np.arange(first_rec, k1 + 1, record_every)
-            rec = Recording(
-                plan.fields,
-                plan.nodes,
-                record_every,
-                k0,
-                np.zeros((rec_steps.size, len(plan.fields))),
-            )
             failure = None
             watched = watch.every > 0 and not quiet and not in_long
             if in_long:
@@ -243,30 +233,41 @@ def integrate(
                     k0, k1, system, fac, opts, levels, plan, stats[k0:k1], rec_t, rec_vals
                 )
                 completed = reached - k0
-            elif adaptive is None:
-                completed, outcome = march(
-                    system.F, system.dF, test, con, work, fac, opts, levels.forcing(chunk),
-                    rec, gate if quiet else NO_GATE, NO_WATCH if quiet else watch,
-                    stats[k0:k1],
-                )  # fmt: skip
-                if completed < k1 - k0 and outcome.status != Status.CONVERGED:
-                    failure = ConvergenceError(
-                        float(times[k0 + completed + 1]),
-                        k0 + completed + 1,
-                        outcome.corrections,
-                        outcome.residual,
-                        REASONS.get(Status(outcome.status), "unknown")
-                        + " (also after a retry from the other predictor with a fresh Jacobian)",
-                    )
             else:
-                completed, failure = adaptive.chunk(
-                    k0, k1, rec, stats[k0:k1], *((gate,) if quiet else (NO_GATE, test, watch))
+                first_rec = (k0 // record_every + 1) * record_every
+                rec_steps = np.arange(first_rec, k1 + 1, record_every)
+                rec = Recording(
+                    plan.fields,
+                    plan.nodes,
+                    record_every,
+                    k0,
+                    np.zeros((rec_steps.size, len(plan.fields))),
                 )
-            done = k0 + completed
-            if not in_long:
-                kept = rec_steps <= done
+                chunk_gate, chunk_watch = (gate, NO_WATCH) if quiet else (NO_GATE, watch)
+                if adaptive is None:
+                    completed, outcome = march(
+                        system.F, system.dF, test, con, work, fac, opts,
+                        levels.forcing(slice(k0, k1 + 1)), rec, chunk_gate, chunk_watch,
+                        stats[k0:k1],
+                    )  # fmt: skip
+                    if completed < k1 - k0 and outcome.status != Status.CONVERGED:
+                        failure = ConvergenceError(
+                            float(times[k0 + completed + 1]),
+                            k0 + completed + 1,
+                            outcome.corrections,
+                            outcome.residual,
+                            REASONS.get(Status(outcome.status), "unknown")
+                            + " (also after a retry from the other predictor with a fresh "
+                            "Jacobian)",
+                        )
+                else:
+                    completed, failure = adaptive.chunk(
+                        k0, k1, rec, stats[k0:k1], chunk_gate, test, chunk_watch
+                    )
+                kept = rec_steps <= k0 + completed
                 rec_t.extend(t0 + dt * rec_steps[kept])
                 rec_vals.extend(rec.out[kept])
+            done = k0 + completed
             if failure is not None:
                 stopped = f"failed: {failure}"
                 break

@@ -20,6 +20,7 @@ __all__ = [
     "Gate",
     "NO_GATE",
     "make_gate",
+    "norm_sum",
     "gauge",
     "closes",
     "closed",
@@ -78,16 +79,22 @@ _DF = numba.types.FunctionType(JACOBIAN_SIGNATURE)
 _STOP = numba.types.FunctionType(STOP_SIGNATURE)
 
 
-@jit(signature=numba.float64(A2, GATE))
-def gauge(y, gate):
-    """The quantity the :class:`Gate` compares with its limit, at the level y."""
+@jit(signature=numba.float64(A2, I1, numba.float64))
+def norm_sum(y, fields, weight):
+    """``weight * sum_j sqrt(sum_{f in fields} y[j, f]**2)`` at the level y."""
     total = 0.0
     for j in range(y.shape[0]):
         acc = 0.0
-        for f in gate.fields:
+        for f in fields:
             acc += y[j, f] * y[j, f]
         total += math.sqrt(acc)
-    return gate.weight * total
+    return weight * total
+
+
+@jit(signature=numba.float64(A2, GATE))
+def gauge(y, gate):
+    """The quantity the :class:`Gate` compares with its limit, at the level y."""
+    return norm_sum(y, gate.fields, gate.weight)
 
 
 @jit(signature=numba.boolean(A2, GATE))

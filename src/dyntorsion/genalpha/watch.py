@@ -8,19 +8,20 @@ compiled call.  Its ``test(y, watch)`` is a kernel compiled with
 :data:`STOP_SIGNATURE`; it keeps what it needs between levels in ``watch.state`` and
 ``watch.work`` and, when it returns True, sets ``watch.state[0]`` to a nonzero code
 and leaves in ``watch.state`` what ``reason(t, state)`` turns into the run's
-``stopped`` message.
+``stopped`` message.  Its fixed numbers are in ``watch.params``, its integers (field
+indices) in ``watch.index``, so the test allocates nothing at a level.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any, NamedTuple
 
 import numba
 import numpy as np
 
-from .._numba import A1, A2, jit, named
+from .._numba import A1, A2, I1, jit, named
 
 __all__ = ["Watch", "CompiledStop", "STOP_SIGNATURE", "NO_WATCH", "never"]
 
@@ -34,9 +35,10 @@ class Watch(NamedTuple):
     params: np.ndarray
     state: np.ndarray
     work: np.ndarray
+    index: np.ndarray
 
 
-WATCH = named(Watch, numba.int64, numba.int64, A1, A1, A1)
+WATCH = named(Watch, numba.int64, numba.int64, A1, A1, A1, I1)
 #: signature of a compiled stop test  test(y, watch) -> stop?
 STOP_SIGNATURE = numba.boolean(A2, WATCH)
 
@@ -48,7 +50,7 @@ def never(y, watch):
 
 
 #: the watch the march never consults
-NO_WATCH = Watch(0, 0, np.zeros(0), np.zeros(0), np.zeros(0))
+NO_WATCH = Watch(0, 0, np.zeros(0), np.zeros(0), np.zeros(0), np.zeros(0, np.int64))
 
 
 @dataclass(frozen=True)
@@ -59,7 +61,7 @@ class CompiledStop:
     the run must stop; ``params``, ``state`` and ``work`` are its arrays (``state`` and
     ``work`` change from level to level: one CompiledStop serves one run; ``state[0]``
     is 0 until the test says stop, then a nonzero code); ``reason(t, state)`` is the
-    message of a stop at time t.
+    message of a stop at time t; ``index`` holds the test's integers (int64).
     """
 
     test: Any
@@ -67,9 +69,10 @@ class CompiledStop:
     state: np.ndarray
     work: np.ndarray
     reason: Callable[[float, np.ndarray], str]
+    index: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
 
     def watch(self, every: int, until: int) -> Watch:
-        return Watch(int(every), int(until), self.params, self.state, self.work)
+        return Watch(int(every), int(until), self.params, self.state, self.work, self.index)
 
     def fired(self) -> bool:
         """Whether the test has said stop."""
