@@ -38,6 +38,16 @@ class Watch(NamedTuple):
     index: np.ndarray
 
 
+for _name, _doc in (
+    ("every", "the test is consulted at the levels i with i % every == 0 (0: never)"),
+    ("until", "... and i < until"),
+    ("params", "the test's fixed numbers"),
+    ("state", "what the test keeps between levels; state[0] != 0 once it said stop"),
+    ("work", "the test's scratch arrays"),
+    ("index", "the test's integers (field indices)"),
+):
+    getattr(Watch, _name).__doc__ = _doc
+
 WATCH = named(Watch, numba.int64, numba.int64, A1, A1, A1, I1)
 #: signature of a compiled stop test  test(y, watch) -> stop?
 STOP_SIGNATURE = numba.boolean(A2, WATCH)
