@@ -39,10 +39,10 @@ class Watch(NamedTuple):
 
 
 for _name, _doc in (
-    ("every", "the test is consulted at the levels i with i % every == 0 (0: never)"),
-    ("until", "... and i < until"),
+    ("every", "the test is consulted at the levels i with i % every == 0, never if 0"),
+    ("until", "and only at the levels i < until"),
     ("params", "the test's fixed numbers"),
-    ("state", "what the test keeps between levels; state[0] != 0 once it said stop"),
+    ("state", "what the test keeps between levels, state[0] != 0 once it said stop"),
     ("work", "the test's scratch arrays"),
     ("index", "the test's integers (field indices)"),
 ):
