@@ -6,7 +6,10 @@ state (every field nonzero):
 * one full Newton iteration: residual + Jacobian assembly + block LU + solve;
 * a bare ``scipy.linalg.solve_banded`` (LAPACK gbsv) of the same matrix and
   right-hand side, for reference (it does only the LU and the solve);
-* one time step of the buckling scene, as the solver runs it (Jacobian reuse).
+* one time step of the buckling scene, as the solver runs it (Jacobian reuse);
+* the parts of the linear algebra: the block LU, the explicit block operators built
+  from it (``_abd.explicit``), and one solve by substitution with the LU factors
+  against one with the operators (what each reuse of kept factors costs).
 
 Timings are medians of repeated runs on a shared machine: compare the ratios,
 not the absolute numbers.  Nothing here is asserted.
@@ -92,6 +95,27 @@ def main() -> None:
         print(
             f"{n:<6d} {1e6 * t_iter:10.1f}  {1e6 * t_band:10.1f}  {t_iter / t_band:9.2f}"
             f"  {1e6 * t_step:10.1f}  {1e6 * t_iter / (n + 1):12.3f}  {1 / t_step:7.0f}"
+        )
+
+    print()
+    print("N      factor[us]  operators[us]  solve LU[us]  solve explicit[us]  ratio")
+    for n in (50, 100, 200, 400, 800):
+        model, system, left, right, y = scene(n)
+        ys, _ = model.scales()
+        y_bent = y + 1e-3 * ys * rng.normal(size=y.shape)
+        _, (BL, A, B, BR), rhs = ga.newton_iteration_kernel(
+            system, ga.Scheme(), n, 1.0, dt, left, right, y_bent
+        )
+        fac = _abd.allocate(n, system.nf, BL.shape[0])
+        x = np.zeros((n + 1, system.nf))
+        inner = max(1, 4000 // n)
+        t_fac = median_time(lambda: _abd.factor(BL, A, B, BR, fac), 7, inner)
+        t_ops = median_time(lambda: _abd.explicit(fac), 7, inner)
+        t_lu = median_time(lambda: _abd.solve_lu(fac, rhs, x), 7, 4 * inner)
+        t_ex = median_time(lambda: _abd.solve_explicit(fac, rhs, x), 7, 4 * inner)
+        print(
+            f"{n:<6d} {1e6 * t_fac:10.1f}  {1e6 * t_ops:13.1f}  {1e6 * t_lu:12.1f}"
+            f"  {1e6 * t_ex:18.1f}  {t_lu / t_ex:5.2f}"
         )
 
 

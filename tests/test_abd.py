@@ -13,16 +13,20 @@ def test_solve_matches_dense(rng, nf, nbl, n):
     A = rng.normal(size=(n, nf, nf))
     B = rng.normal(size=(n, nf, nf))
     BR = rng.normal(size=(nf - nbl, nf))
-    W, piv, Wl, pivl, v = _abd.allocate(n, nf, nbl)
-    assert _abd.factor(BL, A, B, BR, W, piv, Wl, pivl) == -1
-    rhs = rng.normal(size=nf * (n + 1))
-    x = np.zeros((n + 1, nf))
-    _abd.solve(W, piv, Wl, pivl, v, rhs, x)
+    fac = _abd.allocate(n, nf, nbl)
+    assert _abd.factor(BL, A, B, BR, fac) == -1
     J = _abd.to_dense(BL, A, B, BR)
-    x_ref = np.linalg.solve(J, rhs)
-    assert np.max(np.abs(x.ravel() - x_ref)) <= 1e-10 * np.max(np.abs(x_ref))
     (lo, up), ab = _abd.to_banded(BL, A, B, BR)
-    assert np.allclose(solve_banded((lo, up), ab, rhs), x_ref, rtol=1e-9, atol=1e-12)
+    # the first EXPLICIT_AFTER solves substitute with the LU factors, the later ones use
+    # the explicit operators built at the next: every one solves the system
+    for uses in range(_abd.EXPLICIT_AFTER + 2):
+        assert fac.uses[0] == uses
+        rhs = rng.normal(size=nf * (n + 1))
+        x = np.zeros((n + 1, nf))
+        _abd.solve(fac, rhs, x)
+        x_ref = np.linalg.solve(J, rhs)
+        assert np.max(np.abs(x.ravel() - x_ref)) <= 1e-10 * np.max(np.abs(x_ref))
+        assert np.allclose(solve_banded((lo, up), ab, rhs), x_ref, rtol=1e-9, atol=1e-12)
 
 
 def test_pivoting_is_needed_and_done(rng):
@@ -35,13 +39,15 @@ def test_pivoting_is_needed_and_done(rng):
     A[:, 0, 0] = 0.0
     B = rng.normal(size=(n, nf, nf))
     BR = rng.normal(size=(nf - nbl, nf))
-    W, piv, Wl, pivl, v = _abd.allocate(n, nf, nbl)
-    assert _abd.factor(BL, A, B, BR, W, piv, Wl, pivl) == -1
-    assert piv[0, 0] != 0
+    fac = _abd.allocate(n, nf, nbl)
+    assert _abd.factor(BL, A, B, BR, fac) == -1
+    assert fac.piv[0, 0] != 0
     rhs = rng.normal(size=nf * (n + 1))
-    x = np.zeros((n + 1, nf))
-    _abd.solve(W, piv, Wl, pivl, v, rhs, x)
-    assert np.allclose(_abd.to_dense(BL, A, B, BR) @ x.ravel(), rhs, atol=1e-10)
+    for solve in (_abd.solve_lu, _abd.solve_explicit):
+        _abd.explicit(fac)
+        x = np.zeros((n + 1, nf))
+        solve(fac, rhs, x)
+        assert np.allclose(_abd.to_dense(BL, A, B, BR) @ x.ravel(), rhs, atol=1e-10)
 
 
 def test_singular_matrix_is_reported(rng):
@@ -51,5 +57,52 @@ def test_singular_matrix_is_reported(rng):
     B = rng.normal(size=(n, nf, nf))
     BR = rng.normal(size=(nf - nbl, nf))
     A[0, :, 0] = 0.0  # column 0 is zero in every row: singular
-    W, piv, Wl, pivl, v = _abd.allocate(n, nf, nbl)
-    assert _abd.factor(BL, A, B, BR, W, piv, Wl, pivl) == 0
+    fac = _abd.allocate(n, nf, nbl)
+    assert _abd.factor(BL, A, B, BR, fac) == 0
+
+
+def test_explicit_operators_on_the_rod_jacobian(rng):
+    """On the Jacobian of a step of the rod (bent, every field nonzero; its U blocks have
+    condition numbers up to about 1e4), the explicit operators solve like the LU
+    substitution, to rounding, and a new factorisation makes the next solve substitute
+    again (operators of stale factors are never used)."""
+    from dyntorsion import Rod
+    from dyntorsion import genalpha as ga
+    from dyntorsion.loading import EQ30
+    from dyntorsion.model import IDX, Cosserat
+
+    n = 60
+    model = Cosserat(Rod())
+    system = model.system()
+    left = ga.Boundary.fields(system, list(EQ30.left), [0, 0, 0, 0, 0, 10.0])
+    right = ga.Boundary.fields(system, list(EQ30.right))
+    y = np.zeros((n + 1, 12))
+    y[:, IDX["k3"]] = 10.0
+    ys, _ = model.scales()
+    y += 1e-3 * ys * rng.normal(size=y.shape)
+    _, (BL, A, B, BR), _ = ga.newton_iteration_kernel(
+        system, ga.Scheme(), n, 1.0, 0.005, left, right, y
+    )
+    fac = _abd.allocate(n, 12, BL.shape[0])
+    assert _abd.factor(BL, A, B, BR, fac) == -1
+    _abd.explicit(fac)
+    J = _abd.to_dense(BL, A, B, BR)
+    for _ in range(3):
+        rhs = rng.normal(size=12 * (n + 1))
+        x_lu, x_ex = np.zeros((n + 1, 12)), np.zeros((n + 1, 12))
+        _abd.solve_lu(fac, rhs, x_lu)
+        _abd.solve_explicit(fac, rhs, x_ex)
+        scale = np.max(np.abs(x_lu))
+        assert 0 < np.max(np.abs(x_ex - x_lu)) <= 1e-11 * scale  # different sums, same solve
+        assert np.max(np.abs(J @ x_ex.ravel() - rhs)) <= 1e-9 * np.max(np.abs(rhs))
+    # after a refactorisation of another matrix the next solves are the LU's, and then
+    # the operators are rebuilt from the new factors
+    B2 = B + 0.1 * rng.normal(size=B.shape)
+    assert _abd.factor(BL, A, B2, BR, fac) == -1
+    J2 = _abd.to_dense(BL, A, B2, BR)
+    for uses in range(_abd.EXPLICIT_AFTER + 2):
+        assert fac.uses[0] == uses
+        rhs = rng.normal(size=12 * (n + 1))
+        x = np.zeros((n + 1, 12))
+        _abd.solve(fac, rhs, x)
+        assert np.allclose(x.ravel(), np.linalg.solve(J2, rhs), rtol=1e-9, atol=1e-12)

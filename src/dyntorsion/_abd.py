@@ -19,6 +19,19 @@ Storage: ``W[b]`` (m x 2nf, m = nbL + nf) holds the multipliers (columns 0..nf-1
 below the diagonal), the U rows of node b (rows 0..nf-1) and the carried rows
 (rows nf..m-1, columns nf..2nf-1); ``piv[b]`` the row interchanges, LAPACK style.
 The last node is an nf x nf dense LU in ``Wl``/``pivl``.
+
+Factors used more than :data:`EXPLICIT_AFTER` times are turned into explicit block
+operators (:func:`explicit`, built at the next solve): the forward elimination of node b
+maps the carried rows and the rows of cell b+1, v = [carried; rhs_b] (m values), to
+[U_b z_b; carried'], and the back substitution is x_b = z_b - G_b x_{b+1} with
+G_b = U_b^{-1} C_b (C_b the coupling of the U rows to node b+1).  ``HK[b]`` (m x m,
+stored transposed: ``HK[b, c, q]`` multiplies v_c) gives [z_b; carried'] = HK_b^T v in
+one product, so a solve is m^2 + nf^2 independent multiply-adds a node instead of a
+chain of dependent ones: about twice as fast (benchmarks/bench_engine.py), the same
+solution to rounding (``tests/test_abd.py``).  Building them costs about one
+factorisation; the simplified Newton iteration reuses its factors for tens of solves,
+so nearly every solve takes this path, while factors used a few times only (full
+Newton, step halvings) never build them.
 """
 
 from __future__ import annotations
@@ -31,27 +44,39 @@ from ._numba import A1, A2, A3, I1, I2, jit, named
 
 
 class Factors(NamedTuple):
-    """LU factors of the staircase matrix (see the module docstring) and a work vector."""
+    """LU factors of the staircase matrix, their explicit block operators and work
+    (see the module docstring)."""
 
-    W: np.ndarray
-    piv: np.ndarray
-    Wl: np.ndarray
-    pivl: np.ndarray
-    v: np.ndarray
+    W: np.ndarray  # (N, m, 2 nf) multipliers, U rows and carried rows of each node
+    piv: np.ndarray  # (N, nf) row interchanges
+    Wl: np.ndarray  # (nf, nf) LU of the last node
+    pivl: np.ndarray  # (nf,)
+    v: np.ndarray  # (2 m,) work
+    HK: np.ndarray  # (N, m, m) forward elimination and U_b^{-1} of each node, transposed
+    G: np.ndarray  # (N, nf, nf) U_b^{-1} C_b, transposed
+    uses: np.ndarray  # [solves since the factorisation]; HK and G are valid from 2 on
 
 
-FACTORS = named(Factors, A3, I2, A2, I1, A1)
+#: solves by substitution with new LU factors before their explicit operators are built
+#: (:func:`solve`); 1, 4 and 8 gave the same Fig 10 sweep time to 1 %
+EXPLICIT_AFTER = 4
+
+FACTORS = named(Factors, A3, I2, A2, I1, A1, A3, A3, I1)
 
 
 def allocate(n_cells: int, nf: int, nbl: int) -> Factors:
     """Work arrays for :func:`factor` and :func:`solve`."""
     m = nbl + nf
-    W = np.zeros((n_cells, m, 2 * nf))
-    piv = np.zeros((n_cells, nf), dtype=np.int64)
-    Wl = np.zeros((nf, nf))
-    pivl = np.zeros(nf, dtype=np.int64)
-    v = np.zeros(m)
-    return Factors(W, piv, Wl, pivl, v)
+    return Factors(
+        W=np.zeros((n_cells, m, 2 * nf)),
+        piv=np.zeros((n_cells, nf), dtype=np.int64),
+        Wl=np.zeros((nf, nf)),
+        pivl=np.zeros(nf, dtype=np.int64),
+        v=np.zeros(2 * m),
+        HK=np.zeros((n_cells, m, m)),
+        G=np.zeros((n_cells, nf, nf)),
+        uses=np.zeros(1, dtype=np.int64),
+    )
 
 
 @jit
@@ -87,13 +112,15 @@ def _lu_rows(Wb, piv_b, m, ncol, nelim):
 
 
 @jit
-def factor(BL, A, B, BR, W, piv, Wl, pivl):
-    """LU-factorise the staircase matrix given by its blocks.
+def factor(BL, A, B, BR, fac):
+    """LU-factorise the staircase matrix given by its blocks into ``fac``.
 
     BL (nbL, nf): left boundary rows on node 0; A[j], B[j] (nf, nf): cell j+1 on
     nodes j and j+1; BR (nbR, nf): right boundary rows on node N.
     Returns -1 on success, else the global column index of a zero pivot.
     """
+    W, piv, Wl, pivl = fac.W, fac.piv, fac.Wl, fac.pivl
+    fac.uses[0] = 0
     n_cells = A.shape[0]
     nf = A.shape[1]
     nbl = BL.shape[0]
@@ -133,12 +160,26 @@ def factor(BL, A, B, BR, W, piv, Wl, pivl):
 
 
 @jit
-def solve(W, piv, Wl, pivl, v, rhs, x):
-    """Solve with the factors of :func:`factor`.
+def solve(fac, rhs, x):
+    """Solve with the factors of :func:`factor`: by substitution the first
+    :data:`EXPLICIT_AFTER` times, then with the explicit operators (built at the next
+    solve, :func:`explicit`).
 
     rhs: flat vector in row order (length nf (N+1)); x: (N+1, nf) solution.
-    ``v`` is a work vector of length nbL + nf.
     """
+    if fac.uses[0] == EXPLICIT_AFTER:
+        explicit(fac)
+    if fac.uses[0] >= EXPLICIT_AFTER:
+        solve_explicit(fac, rhs, x)
+    else:
+        solve_lu(fac, rhs, x)
+    fac.uses[0] += 1
+
+
+@jit
+def solve_lu(fac, rhs, x):
+    """Solve by forward elimination and back substitution with the LU factors."""
+    W, piv, Wl, pivl, v = fac.W, fac.piv, fac.Wl, fac.pivl, fac.v
     n_cells, m, two_nf = W.shape
     nf = two_nf // 2
     nbl = m - nf
@@ -163,6 +204,26 @@ def solve(W, piv, Wl, pivl, v, rhs, x):
             x[b, r] = v[r]
         for r in range(nbl):
             v[r] = v[nf + r]
+    _last_node(fac, rhs, x)
+    for b in range(n_cells - 1, -1, -1):
+        Wb = W[b]
+        for q in range(nf - 1, -1, -1):
+            acc = x[b, q]
+            for c in range(nf):
+                acc -= Wb[q, nf + c] * x[b + 1, c]
+            for c in range(q + 1, nf):
+                acc -= Wb[q, c] * x[b, c]
+            x[b, q] = acc / Wb[q, q]
+
+
+@jit
+def _last_node(fac, rhs, x):
+    """x_N from the rows carried into the last node (in ``fac.v[:nbL]``) and the right
+    boundary rows, with the dense LU of the last node."""
+    Wl, pivl, v = fac.Wl, fac.pivl, fac.v
+    n_cells = x.shape[0] - 1
+    nf = Wl.shape[0]
+    nbl = fac.W.shape[1] - nf
     off = nbl + nf * n_cells
     for r in range(nf - nbl):
         v[nbl + r] = rhs[off + r]
@@ -180,15 +241,104 @@ def solve(W, piv, Wl, pivl, v, rhs, x):
         for c in range(q + 1, nf):
             acc -= Wl[q, c] * x[n_cells, c]
         x[n_cells, q] = acc / Wl[q, q]
-    for b in range(n_cells - 1, -1, -1):
+
+
+@jit
+def explicit(fac):
+    """The explicit operators ``fac.HK``, ``fac.G`` of the LU factors (module docstring).
+
+    For node b: T = the forward elimination applied to the identity (m x m), Z = U_b^{-1}
+    by back substitution; HK[b, c, q] = (Z T)[q, c] for q < nf and T[q, c] below,
+    G[b, c, q] = (Z C_b)[q, c].  About as costly as the factorisation itself."""
+    W, piv, HK, G = fac.W, fac.piv, fac.HK, fac.G
+    n_cells, m, two_nf = W.shape
+    nf = two_nf // 2
+    T = np.empty((m, m))
+    Zt = np.empty((nf, nf))
+    for b in range(n_cells):
         Wb = W[b]
-        for q in range(nf - 1, -1, -1):
-            acc = x[b, q]
-            for c in range(nf):
-                acc -= Wb[q, nf + c] * x[b + 1, c]
-            for c in range(q + 1, nf):
-                acc -= Wb[q, c] * x[b, c]
-            x[b, q] = acc / Wb[q, q]
+        for i in range(m):
+            for j in range(m):
+                T[i, j] = 0.0
+            T[i, i] = 1.0
+        for q in range(nf):
+            p = piv[b, q]
+            if p != q:
+                for j in range(m):
+                    tmp = T[q, j]
+                    T[q, j] = T[p, j]
+                    T[p, j] = tmp
+            for r in range(q + 1, m):
+                lmul = Wb[r, q]
+                if lmul != 0.0:
+                    for j in range(m):
+                        T[r, j] -= lmul * T[q, j]
+        # Zt = (U_b^{-1})^T, row k holding column k of the inverse (nonzero for q <= k)
+        for col in range(nf):
+            for q in range(nf - 1, -1, -1):
+                if q > col:
+                    Zt[col, q] = 0.0
+                    continue
+                acc = 1.0 if q == col else 0.0
+                for c in range(q + 1, col + 1):
+                    acc -= Wb[q, c] * Zt[col, c]
+                Zt[col, q] = acc / Wb[q, q]
+        HKb, Gb = HK[b], G[b]
+        for c in range(m):
+            for q in range(nf):
+                HKb[c, q] = 0.0
+            for k in range(nf):
+                tk = T[k, c]
+                if tk != 0.0:
+                    for q in range(k + 1):
+                        HKb[c, q] += Zt[k, q] * tk
+            for q in range(nf, m):
+                HKb[c, q] = T[q, c]
+        for c in range(nf):
+            for q in range(nf):
+                Gb[c, q] = 0.0
+            for k in range(nf):
+                ck = Wb[k, nf + c]
+                if ck != 0.0:
+                    for q in range(k + 1):
+                        Gb[c, q] += Zt[k, q] * ck
+
+
+@jit
+def solve_explicit(fac, rhs, x):
+    """Solve with the operators of :func:`explicit`: [x_b; carried'] = HK_b^T [carried;
+    rhs_b] node by node, the last node by its LU, then x_b -= G_b^T-products back."""
+    HK, G, v = fac.HK, fac.G, fac.v
+    n_cells, m, _ = HK.shape
+    nf = G.shape[1]
+    nbl = m - nf
+    out = v[m:]
+    for r in range(nbl):
+        v[r] = rhs[r]
+    for b in range(n_cells):
+        off = nbl + nf * b
+        for r in range(nf):
+            v[nbl + r] = rhs[off + r]
+        HKb = HK[b]
+        for q in range(m):
+            out[q] = 0.0
+        for c in range(m):
+            vc = v[c]
+            for q in range(m):
+                out[q] += HKb[c, q] * vc
+        for q in range(nf):
+            x[b, q] = out[q]
+        for r in range(nbl):
+            v[r] = out[nf + r]
+    _last_node(fac, rhs, x)
+    for b in range(n_cells - 1, -1, -1):
+        Gb = G[b]
+        xb = x[b]
+        xn = x[b + 1]
+        for c in range(nf):
+            xc = xn[c]
+            for q in range(nf):
+                xb[q] -= Gb[c, q] * xc
 
 
 def to_dense(BL, A, B, BR) -> np.ndarray:

@@ -291,13 +291,13 @@ def factor(con, w, fac):
             for f in range(nf):
                 Ablk[j, rr, f] = (Q[rr, f] + wp * dFn[j, rr, f]) * ys[f] * inv
                 Bblk[j, rr, f] = (P[rr, f] + wn * dFn[jn, rr, f]) * ys[f] * inv
-    return _abd.factor(w.left, Ablk, Bblk, w.right, fac.W, fac.piv, fac.Wl, fac.pivl)
+    return _abd.factor(w.left, Ablk, Bblk, w.right, fac)
 
 
 @jit
 def solve_neg(fac, r, x):
     """x = -J^{-1} r  (scaled unknowns)."""
-    _abd.solve(fac.W, fac.piv, fac.Wl, fac.pivl, fac.v, r, x)
+    _abd.solve(fac, r, x)
     N1, nf = x.shape
     for j in range(N1):
         for f in range(nf):

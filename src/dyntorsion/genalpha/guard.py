@@ -115,9 +115,10 @@ def available_memory() -> int | None:
 def run_bytes(n_steps: int, n_nodes: int, nf: int, n_recorded: int, n_snapshots: int) -> int:
     """What a run allocates up front and while it records, in bytes: per step its time,
     boundary data (nf rows), source factor, statistics (5) and recorded traces; per
-    snapshot a whole field; the Jacobian blocks and work arrays (about 8 nf^2 per node)."""
+    snapshot a whole field; the Jacobian blocks, their factors and explicit operators
+    and the work arrays (about 12 nf^2 per node)."""
     per_step = 8 * (1 + nf + 1 + 5 + n_recorded)
-    return int(per_step * (n_steps + 1) + 8 * n_nodes * nf * (n_snapshots + 8 * nf + 16))
+    return int(per_step * (n_steps + 1) + 8 * n_nodes * nf * (n_snapshots + 12 * nf + 16))
 
 
 def check_memory(n_steps: int, n_nodes: int, nf: int, n_recorded: int, n_snapshots: int) -> None:
