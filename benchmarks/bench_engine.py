@@ -109,10 +109,11 @@ def main() -> None:
         fac = _abd.allocate(n, system.nf, BL.shape[0])
         x = np.zeros((n + 1, system.nf))
         inner = max(1, 4000 // n)
-        t_fac = median_time(lambda: _abd.factor(BL, A, B, BR, fac), 7, inner)
-        t_ops = median_time(lambda: _abd.explicit(fac), 7, inner)
-        t_lu = median_time(lambda: _abd.solve_lu(fac, rhs, x), 7, 4 * inner)
-        t_ex = median_time(lambda: _abd.solve_explicit(fac, rhs, x), 7, 4 * inner)
+        blocks = (BL, A, B, BR)
+        t_fac = median_time(lambda b=blocks, f=fac: _abd.factor(*b, f), 7, inner)
+        t_ops = median_time(lambda f=fac: _abd.explicit(f), 7, inner)
+        t_lu = median_time(lambda f=fac, r=rhs, x=x: _abd.solve_lu(f, r, x), 7, 4 * inner)
+        t_ex = median_time(lambda f=fac, r=rhs, x=x: _abd.solve_explicit(f, r, x), 7, 4 * inner)
         print(
             f"{n:<6d} {1e6 * t_fac:10.1f}  {1e6 * t_ops:13.1f}  {1e6 * t_lu:12.1f}"
             f"  {1e6 * t_ex:18.1f}  {t_lu / t_ex:5.2f}"

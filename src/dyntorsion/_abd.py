@@ -179,7 +179,7 @@ def solve(fac, rhs, x):
 @jit
 def solve_lu(fac, rhs, x):
     """Solve by forward elimination and back substitution with the LU factors."""
-    W, piv, Wl, pivl, v = fac.W, fac.piv, fac.Wl, fac.pivl, fac.v
+    W, piv, v = fac.W, fac.piv, fac.v
     n_cells, m, two_nf = W.shape
     nf = two_nf // 2
     nbl = m - nf
