@@ -54,7 +54,7 @@ class Factors(NamedTuple):
     v: np.ndarray  # (2 m,) work
     HK: np.ndarray  # (N, m, m) forward elimination and U_b^{-1} of each node, transposed
     G: np.ndarray  # (N, nf, nf) U_b^{-1} C_b, transposed
-    uses: np.ndarray  # [solves since the factorisation]; HK and G are valid from 2 on
+    uses: np.ndarray  # [solves since the factorisation]; HK, G valid once > EXPLICIT_AFTER
 
 
 #: solves by substitution with new LU factors before their explicit operators are built
