@@ -61,17 +61,15 @@ def test_singular_matrix_is_reported(rng):
     assert _abd.factor(BL, A, B, BR, fac) == 0
 
 
-def test_explicit_operators_on_the_rod_jacobian(rng):
-    """On the Jacobian of a step of the rod (bent, every field nonzero; its U blocks have
-    condition numbers up to about 1e4), the explicit operators solve like the LU
-    substitution, to rounding, and a new factorisation makes the next solve substitute
-    again (operators of stale factors are never used)."""
+def rod_jacobian(rng, n: int, dt: float):
+    """The scaled Jacobian blocks (BL, A, B, BR) and residual of a step of dt from a bent
+    state of the rod of Table 1 (kappa3 = 10 1/m plus 1e-3 of each field's scale at
+    random), N = n cells."""
     from dyntorsion import Rod
     from dyntorsion import genalpha as ga
     from dyntorsion.loading import EQ30
     from dyntorsion.model import IDX, Cosserat
 
-    n = 60
     model = Cosserat(Rod())
     system = model.system()
     left = ga.Boundary.fields(system, list(EQ30.left), [0, 0, 0, 0, 0, 10.0])
@@ -80,9 +78,17 @@ def test_explicit_operators_on_the_rod_jacobian(rng):
     y[:, IDX["k3"]] = 10.0
     ys, _ = model.scales()
     y += 1e-3 * ys * rng.normal(size=y.shape)
-    _, (BL, A, B, BR), _ = ga.newton_iteration_kernel(
-        system, ga.Scheme(), n, 1.0, 0.005, left, right, y
-    )
+    _, blocks, rhs = ga.newton_iteration_kernel(system, ga.Scheme(), n, 1.0, dt, left, right, y)
+    return (*blocks, rhs.copy())
+
+
+def test_explicit_operators_on_the_rod_jacobian(rng):
+    """On the Jacobian of a step of the rod (bent, every field nonzero; its U blocks have
+    condition numbers up to about 1e4), the explicit operators solve like the LU
+    substitution, to rounding, and a new factorisation makes the next solve substitute
+    again (operators of stale factors are never used)."""
+    n = 60
+    BL, A, B, BR, _ = rod_jacobian(rng, n, 0.005)
     fac = _abd.allocate(n, 12, BL.shape[0])
     assert _abd.factor(BL, A, B, BR, fac) == -1
     _abd.explicit(fac)
@@ -114,23 +120,8 @@ def test_explicit_operators_at_extreme_steps(rng, dt):
     (N = 100, dt = 1e-7 s), at a huge one near 1: the explicit solve stays within 1e-7
     of the LU substitution (measured 1.6e-10 and 4e-15), far inside what a simplified
     Newton correction needs."""
-    from dyntorsion import Rod
-    from dyntorsion import genalpha as ga
-    from dyntorsion.loading import EQ30
-    from dyntorsion.model import IDX, Cosserat
-
     n = 100
-    model = Cosserat(Rod())
-    system = model.system()
-    left = ga.Boundary.fields(system, list(EQ30.left), [0, 0, 0, 0, 0, 10.0])
-    right = ga.Boundary.fields(system, list(EQ30.right))
-    y = np.zeros((n + 1, 12))
-    y[:, IDX["k3"]] = 10.0
-    ys, _ = model.scales()
-    y += 1e-3 * ys * rng.normal(size=y.shape)
-    _, (BL, A, B, BR), rhs = ga.newton_iteration_kernel(
-        system, ga.Scheme(), n, 1.0, dt, left, right, y
-    )
+    BL, A, B, BR, rhs = rod_jacobian(rng, n, dt)
     fac = _abd.allocate(n, 12, BL.shape[0])
     assert _abd.factor(BL, A, B, BR, fac) == -1
     _abd.explicit(fac)
