@@ -27,7 +27,8 @@ maps the carried rows and the rows of cell b+1, v = [carried; rhs_b] (m values),
 G_b = U_b^{-1} C_b (C_b the coupling of the U rows to node b+1).  ``HK[b]`` (m x m,
 stored transposed: ``HK[b, c, q]`` multiplies v_c) gives [z_b; carried'] = HK_b^T v in
 one product, so a solve is m^2 + nf^2 independent multiply-adds a node instead of a
-chain of dependent ones: about twice as fast (benchmarks/bench_engine.py), the same
+chain of dependent ones: 1.6 to 1.9 times as fast at N = 50 to 800
+(benchmarks/bench_engine.py), the same
 solution to rounding (``tests/test_abd.py``).  Building them costs about one
 factorisation; the simplified Newton iteration reuses its factors for tens of solves,
 so nearly every solve takes this path, while factors used a few times only (full
@@ -58,7 +59,7 @@ class Factors(NamedTuple):
 
 
 #: solves by substitution with new LU factors before their explicit operators are built
-#: (:func:`solve`); 1, 4 and 8 gave the same Fig 10 sweep time to 1 %
+#: (:func:`solve`); 1, 4 and 8 gave the same Fig 10 sweep time within 1.2 %
 EXPLICIT_AFTER = 4
 
 FACTORS = named(Factors, A3, I2, A2, I1, A1, A3, A3, I1)

@@ -9,7 +9,8 @@ compiled call.  Its ``test(y, watch)`` is a kernel compiled with
 ``watch.work`` and, when it returns True, sets ``watch.state[0]`` to a nonzero code
 and leaves in ``watch.state`` what ``reason(t, state)`` turns into the run's
 ``stopped`` message.  Its fixed numbers are in ``watch.params``, its integers (field
-indices) in ``watch.index``, so the test allocates nothing at a level.
+indices) in ``watch.index`` and its scratch arrays in ``watch.work``, all built once
+for the run.
 """
 
 from __future__ import annotations
