@@ -43,7 +43,7 @@ docs: paper
 ## data: recompute the cached scenes in data/scenes (Fig 10 sweeps, direct Fig 8/9 runs,
 ## grid check; linear-stability predictions); scenes already cached and current are kept.  JOBS local processes.
 JOBS ?= 2
-DATA_PRESETS := fig10 fig10-tiny-seed fig08-09 fig08-09-tiny-seed fig10-grid fig10-grid-tiny-seed \
+DATA_PRESETS := fig10 fig10-tiny-seed fig10-paced fig08-09 fig08-09-tiny-seed fig10-grid fig10-grid-tiny-seed \
                 accuracy-fig08 accuracy-fast newton-fig08 newton-fast newton-fast-tiny-seed fig08-seeds imperfection \
                 mechanisms tension
 LINEAR_PRESETS := linear-fig10 linear-fig10-tiny-seed linear-imperfection linear-variants

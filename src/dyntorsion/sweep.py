@@ -161,6 +161,14 @@ def _fig10(seed: str, rates: Iterable[float] = FIG10_RATES, **grid: Any) -> list
     return [Scene(a=a, kappa0=10.0, seed=SEEDS[seed], **grid) for a in rates]
 
 
+def _fig10_paced() -> list[Scene]:
+    """The Fig 10 sweep in paced steps (:func:`~dyntorsion.pacing.paced`), until the
+    first peak: the fast setting of the delay law."""
+    from .pacing import paced
+
+    return [paced(replace(sc, until="first-peak")) for sc in _fig10("stated")]
+
+
 def _fig08_09(seed: str) -> list[Scene]:
     return [
         Scene(a=1.6, kappa0=0.0, rod=Rod(rho=rho), seed=SEEDS[seed]) for rho in (1500.0, 5000.0)
@@ -251,6 +259,7 @@ def _newton(a: float, kappa0: float, seed: str = "stated") -> list[Scene]:
 PRESETS: dict[str, Callable[[], list[Scene]]] = {
     "fig10": lambda: _fig10("stated"),
     "fig10-tiny-seed": lambda: _fig10("tiny"),
+    "fig10-paced": _fig10_paced,
     "fig08-09": lambda: _fig08_09("stated"),
     "fig08-09-tiny-seed": lambda: _fig08_09("tiny"),
     "fig10-grid": lambda: _grid("stated"),
