@@ -23,7 +23,7 @@ Newton counts per step of the Fig 8 scene are printed too (they do not depend on
   and the same with ``long_steps=LongSteps()`` added to the preset's scheme (steps of
   8 dt while the rod is straight; the largest change of t_c against the run at dt is
   printed), and at dt = 0.02 s throughout (a quarter of the steps, the largest change
-  of t_c printed): even then the sweep takes well over 2 s;
+  of t_c printed): even then the sweep takes well over 2 s at the standard step;
 * the same sweep in paced steps (``S.preset("fig10-paced")``, :mod:`dyntorsion.pacing`:
   384 steps to each scene's estimated onset, Newton tol 1e-6, until the first peak;
   the estimates are timed with it), with its largest change of t_c against the

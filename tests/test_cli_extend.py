@@ -82,8 +82,26 @@ def test_buckle_with_an_elliptic_section_a_load_and_a_history(capsys):
         (["buckle", "--a", "1", "--ellipse", "1e-3"], "must hold 2 numbers"),
         (["buckle", "--history", "spline:1"], "allowed: ramp"),
         (["buckle", "--a", "1.6", "--ends", "pinned-follower"], "give t_end"),
+        (["buckle", "--a", "1.6", "--paced", "8"], "steps=8 must be an integer in [16"),
+        (
+            ["buckle", "--a", "1.6", "--paced", "--tension", "0.01", "--t-end", "5"],
+            "paced steps need the fast onset estimate",
+        ),
     ],
 )
 def test_bad_scene_options_say_what_is_wrong(argv, message, capsys):
     assert main(argv) == 2
     assert message in capsys.readouterr().err
+
+
+def test_a_paced_sweep_from_the_command_line_is_the_paced_scenes(tmp_path, capsys):
+    from dyntorsion.pacing import paced
+
+    store = str(tmp_path / "paced")
+    argv = ["sweep", "--rates", "4,16", "--n-cells", "40", "--until", "first-peak"]
+    assert main([*argv, "--paced", "--store", store, "--quiet"]) == 0
+    capsys.readouterr()
+    scenes = [paced(S.Scene(a=a, n_cells=40, until="first-peak")) for a in (4.0, 16.0)]
+    table = S.run_sweep(scenes, store, compute=False)  # every record is there, keyed so
+    assert list(table["dt"]) == [sc.dt for sc in scenes]
+    assert scenes[0].dt > scenes[1].dt and scenes[1].dt != 0.005

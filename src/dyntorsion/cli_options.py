@@ -12,6 +12,7 @@ from . import fidelity
 from .buckling import Perturbation
 from .fidelity import LEVELS
 from .loading import ENDS, AxialLoad, Polynomial, RampHold, Tabulated
+from .pacing import STEPS, TOL, paced
 from .rod import Rod
 from .scene import UNTIL
 from .sweep import PRESET_CONTROL, Scene
@@ -99,6 +100,17 @@ def add_scene_options(p: argparse.ArgumentParser, kappa0: float) -> None:
         "self-contact (genalpha.StepControl; the presets always use it)",
     )
     g.add_argument(
+        "--paced",
+        type=int,
+        nargs="?",
+        const=STEPS,
+        default=None,
+        metavar="STEPS",
+        help=f"time step = the fast-estimated onset time / STEPS (default {STEPS}), Newton tol "
+        f"{TOL:g} (dyntorsion.pacing; overrides the time step of --dt and --fidelity); ramps "
+        "at clamped ends without axial load",
+    )
+    g.add_argument(
         "--until",
         choices=UNTIL,
         default="contact",
@@ -167,7 +179,8 @@ def history_from(args: argparse.Namespace, a: float | None) -> dict:
 
 def scene_from(args: argparse.Namespace, a: float | None) -> Scene:
     """The :class:`~dyntorsion.scene.Scene` the options describe, at the loading rate ``a``
-    (the grid of ``--fidelity`` scaled to the rod; ``--control`` adds step-size control)."""
+    (the grid of ``--fidelity`` scaled to the rod; ``--control`` adds step-size control;
+    ``--paced`` sets the step by :func:`~dyntorsion.pacing.paced`)."""
     rod = rod_from(args)
     seed = Perturbation(magnitude=args.seed, form=args.seed_form, location=args.seed_location)
     grid = fidelity.get(
@@ -179,7 +192,7 @@ def scene_from(args: argparse.Namespace, a: float | None) -> Scene:
     kwargs = grid.simulate_kwargs()
     if args.control:
         kwargs["scheme"] = replace(kwargs["scheme"], control=PRESET_CONTROL)
-    return Scene(
+    scene = Scene(
         rod=rod,
         seed=seed,
         t_end=args.t_end,
@@ -189,6 +202,7 @@ def scene_from(args: argparse.Namespace, a: float | None) -> Scene:
         **history_from(args, a),
         **kwargs,
     )
+    return scene if args.paced is None else paced(scene, steps=args.paced)
 
 
 def parse_rates(text: str) -> list[float]:
