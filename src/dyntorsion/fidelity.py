@@ -34,6 +34,7 @@ from .rod import Rod
 
 __all__ = ["Fidelity", "LEVELS", "PRESETS", "RENAMED", "check_level", "get", "level", "time_scale"]
 
+#: the named levels, cheapest first
 LEVELS: tuple[str, ...] = ("quick", "standard", "fine")
 #: old level name -> new one
 RENAMED: dict[str, str] = {"paper": "fine"}
@@ -74,9 +75,9 @@ class Fidelity:
         return c * self.dt / (length / self.n_cells)
 
 
-#: scene family -> level -> Fidelity.  "waves": the smooth-release scene (Fig 6);
-#: "waves-incompatible": linear loading and instant release (Figs 3, 4), whose
-#: exact solutions jump, so finer grids; "buckling": Figs 7-10 and the sweeps.
+#: The Fidelity of each level for each scene family: ``waves`` is the smooth-release
+#: scene (Fig 6), ``waves-incompatible`` the linear loading and instant release (Figs 3,
+#: 4), whose exact solutions jump, so finer grids, and ``buckling`` Figs 7-10 and the sweeps.
 PRESETS: dict[str, dict[str, Fidelity]] = {
     "waves": {
         "quick": Fidelity(50, 0.01),
