@@ -105,3 +105,20 @@ def test_a_paced_sweep_from_the_command_line_is_the_paced_scenes(tmp_path, capsy
     table = S.run_sweep(scenes, store, compute=False)  # every record is there, keyed so
     assert list(table["dt"]) == [sc.dt for sc in scenes]
     assert scenes[0].dt > scenes[1].dt and scenes[1].dt != 0.005
+
+
+def test_fit_takes_a_paced_sweep_as_one_sweep_and_splits_one_at_two_steps(tmp_path, capsys):
+    """The family of a scene leaves out its time step, so a paced sweep (one step per
+    rate) is fitted as one sweep; the same rates at two fixed steps are two sweeps."""
+    store = str(tmp_path / "mixed")
+    base = ["sweep", "--rates", "4,8,16,32", "--kappa0", "10", "--n-cells", "20"]
+    base += ["--until", "first-peak", "--store", store, "--quiet"]
+    for extra in (["--dt", "0.01"], ["--dt", "0.02"], ["--paced", "64"]):
+        assert main([*base, *extra]) == 0
+    capsys.readouterr()
+    assert main(["fit", "--store", store]) == 0
+    lines = [ln for ln in capsys.readouterr().out.splitlines() if "kappa_cri fixed" in ln]
+    labels = sorted(re.search(r"dt=(\S+)", ln).group(1) for ln in lines)
+    assert len(lines) == 3 and labels[:2] == ["0.01", "0.02"]
+    lo, hi = map(float, labels[2].split("-"))  # the paced sweep: its steps follow the rate
+    assert hi > 2 * lo

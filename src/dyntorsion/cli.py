@@ -6,6 +6,7 @@
 from __future__ import annotations
 
 import argparse
+import re
 import signal
 import sys
 import threading
@@ -76,14 +77,22 @@ def _print_fit(rows: list[dict]) -> None:
             families.setdefault(r["family"], []).append(r)
     if not families:
         print('fit: no scene with a loading rate and a "buckled" onset to fit')
+    sweeps = []
     for grp in families.values():
-        seen, pts = set(), []
-        for r in grp:
-            if round(r["a"], 9) not in seen:
-                seen.add(round(r["a"], 9))
-                pts.append(r)
+        rates = [round(r["a"], 9) for r in grp]
+        if len(set(rates)) == len(rates):
+            sweeps.append(grp)  # one step, or a step that follows the rate (paced)
+        else:  # the same rates at several steps: one sweep per step
+            by_dt: dict[float, list[dict]] = {}
+            for r in grp:
+                by_dt.setdefault(r["scene"].dt, []).append(r)
+            sweeps.extend(by_dt.values())
+    for pts in sweeps:
         head = pts[0]
         name = head["label"]
+        steps = sorted({r["scene"].dt for r in pts})
+        if len(steps) > 1:
+            name = re.sub(r"dt=\S+", f"dt={steps[0]:g}-{steps[-1]:g}", name)
         if len(pts) == 1:
             continue  # a single scene, not a rate sweep
         if len(pts) < 4:

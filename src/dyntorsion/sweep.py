@@ -64,7 +64,7 @@ def default_store() -> Path:
 
 def _row(scene: Scene, record: dict[str, Any], cached: bool) -> dict[str, Any]:
     res = record["result"]
-    family = {k: v for k, v in record["params"].items() if k != "t_end"}
+    family = {k: v for k, v in record["params"].items() if k not in ("t_end", "dt")}
     family["history"] = {k: v for k, v in family["history"].items() if k != "a"}
     return {
         "a": scene.twist.rate,
@@ -118,9 +118,11 @@ def run_sweep(
 ) -> pd.DataFrame:
     """Run (or read back) a sweep; one table row per scene, in the given order.
 
-    Scenes that differ only in the loading rate share a ``family`` (a hash of
-    their other parameters): one rate sweep, ready for
-    :func:`~dyntorsion.delay_law.fit_power_law`.
+    Scenes that differ only in the loading rate and the time step share a ``family``
+    (a hash of their other parameters): one rate sweep, ready for
+    :func:`~dyntorsion.delay_law.fit_power_law`, also when the step follows the rate
+    (:mod:`~dyntorsion.pacing`); a family holding one rate at two steps is two sweeps
+    (``dyntorsion fit`` splits it by the step).
 
     Scenes already in ``store`` (default :func:`default_store`: ``$DYNTORSION_DATA`` or :data:`DATA`) are read, not recomputed;
     the others run on ``executor`` (any :class:`concurrent.futures.Executor`, for
