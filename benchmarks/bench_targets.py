@@ -147,7 +147,7 @@ try:
 except ImportError:
     res["fig10_long_s"] = res["fig10_peak_s"]
     res["fig10_long_err_pct"] = 0.0
-try:  # paced steps (dyntorsion.pacing); the baseline has none: its first-peak sweep
+if "fig10-paced" in S.PRESETS:  # paced steps (dyntorsion.pacing)
     S.preset("fig10-paced")  # the linear models of the estimate are built once a process
 
     def paced_sweep():
@@ -159,7 +159,7 @@ try:  # paced steps (dyntorsion.pacing); the baseline has none: its first-peak s
     res["fig10_paced_err_pct"] = max(
         100 * abs(o["t_c"] / r["t_c"] - 1) for o, r in zip(out3[-len(scenes):], peak_ref))
     res["fig10_paced_steps"] = sum(o["steps"] for o in out3[-len(scenes):])
-except (KeyError, ValueError, TypeError):
+else:  # the baseline has none: its first-peak sweep
     res["fig10_paced_s"] = res["fig10_peak_s"]
     res["fig10_paced_err_pct"] = 0.0
     res["fig10_paced_steps"] = float("nan")

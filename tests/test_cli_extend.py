@@ -122,3 +122,9 @@ def test_fit_takes_a_paced_sweep_as_one_sweep_and_splits_one_at_two_steps(tmp_pa
     assert len(lines) == 3 and labels[:2] == ["0.01", "0.02"]
     lo, hi = map(float, labels[2].split("-"))  # the paced sweep: its steps follow the rate
     assert hi > 2 * lo
+    # the same rates again at dt = 0.01 with another t_end: one record a rate is fitted
+    assert main([*base, "--dt", "0.01", "--t-end", "40"]) == 0
+    capsys.readouterr()
+    assert main(["fit", "--store", store]) == 0
+    again = [ln for ln in capsys.readouterr().out.splitlines() if "kappa_cri fixed" in ln]
+    assert sorted(again) == sorted(lines)

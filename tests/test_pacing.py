@@ -55,7 +55,6 @@ def test_the_step_reaches_the_estimated_onset_in_the_asked_steps(a):
         assert out.newton.tol == TOL
         # the rest of the scene as it was
         assert replace(out, dt=scene.dt, newton=scene.newton) == scene
-    # slower ramps buckle later and get longer steps
     assert paced_dt(scene) == pytest.approx(t_ref / STEPS, rel=5e-3)
 
 

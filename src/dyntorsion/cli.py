@@ -79,15 +79,20 @@ def _print_fit(rows: list[dict]) -> None:
         print('fit: no scene with a loading rate and a "buckled" onset to fit')
     sweeps = []
     for grp in families.values():
-        rates = [round(r["a"], 9) for r in grp]
-        if len(set(rates)) == len(rates):
-            sweeps.append(grp)  # one step, or a step that follows the rate (paced)
-        else:  # the same rates at several steps: one sweep per step
+        pairs = {(round(r["a"], 9), r["scene"].dt) for r in grp}
+        if len(pairs) == len({a for a, _ in pairs}):
+            sweeps.append(grp)  # each rate at one step (fixed, or following the rate: paced)
+        else:  # some rate at several steps: one sweep per step
             by_dt: dict[float, list[dict]] = {}
             for r in grp:
                 by_dt.setdefault(r["scene"].dt, []).append(r)
             sweeps.extend(by_dt.values())
-    for pts in sweeps:
+    for grp in sweeps:
+        seen, pts = set(), []  # one record a rate (records differing only in t_end)
+        for r in grp:
+            if round(r["a"], 9) not in seen:
+                seen.add(round(r["a"], 9))
+                pts.append(r)
         head = pts[0]
         name = head["label"]
         steps = sorted({r["scene"].dt for r in pts})

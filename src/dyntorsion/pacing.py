@@ -28,6 +28,7 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 
+from .linear_predictions import estimate
 from .scene import Scene
 
 __all__ = ["STEPS", "TOL", "paced", "paced_dt"]
@@ -41,8 +42,6 @@ TOL = 1e-6
 def paced_dt(scene: Scene, steps: int = STEPS) -> float:
     """The time step that reaches the estimated onset of ``scene`` in ``steps`` steps,
     to three significant digits."""
-    from .linear_predictions import estimate
-
     if isinstance(steps, bool) or not isinstance(steps, int) or not 16 <= steps <= 10**6:
         raise ValueError(f"steps={steps!r} must be an integer in [16, 1000000]")
     if not isinstance(scene, Scene):
