@@ -50,8 +50,8 @@ LINEAR_PRESETS := linear-fig10 linear-fig10-tiny-seed linear-imperfection linear
 data: $(VENV)/.test-installed
 	$(BIN)/dyntorsion sweep $(foreach p,$(DATA_PRESETS),--preset $(p)) --jobs $(JOBS)
 	$(BIN)/dyntorsion linear $(foreach p,$(LINEAR_PRESETS),--preset $(p)) --jobs $(JOBS) --quiet
-	$(PY) -m dyntorsion.traces
-	$(PY) -m dyntorsion.consistency --jobs $(JOBS)
+	$(PY) -m dyntorsion.studies.traces
+	$(PY) -m dyntorsion.studies.consistency --jobs $(JOBS)
 
 ## site-check: open every page of the quick build (made by `make test`; built here when
 ## missing), or of SITE=docs/_build/html after `make docs`, in headless Chromium: fails on
@@ -70,11 +70,13 @@ site-check: $(VENV)/.site-installed
 	@test -f $(SITE)/index.html || { echo "site-check: no site in $(SITE) (make docs)"; exit 1; }
 	$(PY) docs/site_check.py $(SITE) --screens docs/_build/screens --self-test
 
-## lint: ruff check and ruff format --check (CI runs it beside the tests)
+## lint: ruff check, ruff format --check and the import contracts of pyproject.toml
+## (import-linter: the layers of the package and no import circle within a folder)
 LINTED := src tests benchmarks docs/conf.py docs/site_check.py
 lint: $(VENV)/.lint-installed
 	$(BIN)/ruff check $(LINTED)
 	$(BIN)/ruff format --check $(LINTED)
+	$(BIN)/lint-imports
 
 ## bench: engine benchmarks (timings are printed, never asserted)
 bench: $(VENV)/.test-installed

@@ -13,8 +13,8 @@ from __future__ import annotations
 import statistics
 
 from dyntorsion import buckling as b
+from dyntorsion.buckling.scene import Scene, simulate_scene
 from dyntorsion.genalpha import Scheme, StepControl
-from dyntorsion.sweep import Scene, simulate_scene
 
 
 def main() -> None:

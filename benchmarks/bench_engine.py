@@ -25,10 +25,11 @@ import time
 import numpy as np
 from scipy.linalg import solve_banded
 
-from dyntorsion import Rod, __version__, _abd
+from dyntorsion import Rod, __version__
 from dyntorsion import genalpha as ga
-from dyntorsion.loading import EQ30
-from dyntorsion.model import IDX, Cosserat
+from dyntorsion.buckling.loading import EQ30
+from dyntorsion.genalpha import abd as _abd
+from dyntorsion.model.cosserat import IDX, Cosserat
 
 
 def median_time(fn, repeats: int, inner: int) -> float:

@@ -22,8 +22,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from dyntorsion import sweep as S
-from dyntorsion.results import Store
+from dyntorsion.store.results import Store
+from dyntorsion.studies import sweep as S
 
 HERE = Path(__file__).resolve().parent
 

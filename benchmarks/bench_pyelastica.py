@@ -3,7 +3,7 @@
 The scene: Table 1 rod, pretwisted kappa0 = 10 1/m, end twist rate a = 16 rad/(m s)
 (the fast scene of the Accuracy and cost page; the paper's Fig 8 scene, 20 s of
 simulated time, is long for an explicit code), seed force 1e-8 N/m along d1.
-Onset t_c by the same method (``dyntorsion.buckling.detect_onset``) on the same
+Onset t_c by the same method (``dyntorsion.buckling.onset.detect_onset``) on the same
 trace, u3 at s = L.  Each code runs on a ladder of resolutions; the converged value
 is its finest run; the report gives the cheapest run within 1 % of it.
 

@@ -6,7 +6,7 @@
   to 0.04 % there (docs/figures/fig08.md).
 * Fig 6: the smooth-release wave on the paper's grid and on a grid 16 times finer.
 * The linear prediction of a Fig 10 scene (kappa0 = 10, a = 1.6, stated seed;
-  dyntorsion.linear_stability), with and without the torsional waves, beside the
+  dyntorsion.beyond.linear_stability), with and without the torsional waves, beside the
   simulated scene.
 
 Medians of three runs; nothing is asserted.
@@ -21,8 +21,8 @@ import time
 
 from dyntorsion import __version__
 from dyntorsion import buckling as b
-from dyntorsion import linear_stability as ls
 from dyntorsion import waves as w
+from dyntorsion.beyond import linear_stability as ls
 
 
 def main() -> None:

@@ -24,7 +24,7 @@ Newton counts per step of the Fig 8 scene are printed too (they do not depend on
   8 dt while the rod is straight; the largest change of t_c against the run at dt is
   printed), and at dt = 0.02 s throughout (a quarter of the steps, the largest change
   of t_c printed): even then the sweep takes well over 2 s at the standard step;
-* the same sweep in paced steps (``S.preset("fig10-paced")``, :mod:`dyntorsion.pacing`:
+* the same sweep in paced steps (``S.preset("fig10-paced")``, :mod:`dyntorsion.studies.pacing`:
   384 steps to each scene's estimated onset, Newton tol 1e-6, until the first peak;
   the estimates are timed with it), with its largest change of t_c against the
   standard grid (floor 2 s; ``benchmarks/bench_paced.py`` compares both with the
@@ -52,7 +52,7 @@ ROOT = Path(__file__).resolve().parents[1]
 def ladder_t_c(preset: str, n_cells: int, dt: float) -> float:
     """t_c of one grid of a cached accuracy ladder (``make data``: ``accuracy-fig08``, the
     Fig 8 scene; ``accuracy-fast``, a = 16)."""
-    from dyntorsion import sweep as S
+    from dyntorsion.studies import sweep as S
 
     t = S.cached(preset)
     row = t[(t["n_cells"] == n_cells) & ((t["dt"] - dt).abs() < 1e-12 * dt)]
@@ -69,7 +69,7 @@ import json, statistics, sys, time
 sys.path.insert(0, sys.argv[1])
 quick = sys.argv[2] == "1"
 from dyntorsion import buckling as b, sweep as S
-from dyntorsion.linear_stability import LateralModel
+from dyntorsion.beyond.linear_stability import LateralModel
 
 def median(f, n):
     out = []
@@ -147,7 +147,7 @@ try:
 except ImportError:
     res["fig10_long_s"] = res["fig10_peak_s"]
     res["fig10_long_err_pct"] = 0.0
-if "fig10-paced" in S.PRESETS:  # paced steps (dyntorsion.pacing)
+if "fig10-paced" in S.PRESETS:  # paced steps (dyntorsion.studies.pacing)
     S.preset("fig10-paced")  # the linear models of the estimate are built once a process
 
     def paced_sweep():
@@ -164,7 +164,7 @@ else:  # the baseline has none: its first-peak sweep
     res["fig10_paced_err_pct"] = 0.0
     res["fig10_paced_steps"] = float("nan")
 try:
-    from dyntorsion.linear_predictions import estimate
+    from dyntorsion.studies.linear_predictions import estimate
 except ImportError:
     estimate = None
 if estimate is not None:
@@ -261,7 +261,7 @@ def main() -> None:
         f"throughout: {now['fig10_long_err_pct']:.4f} %"
     )
     print(
-        "Fig 10 sweep paced (dyntorsion.pacing; the baseline runs its first-peak sweep): "
+        "Fig 10 sweep paced (dyntorsion.studies.pacing; the baseline runs its first-peak sweep): "
         f"largest |t_c change| against the standard grid {now['fig10_paced_err_pct']:.3f} %, "
         f"{now['fig10_paced_steps']} steps (benchmarks/bench_paced.py: both against the "
         "converged onset)"

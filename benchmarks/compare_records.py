@@ -1,6 +1,6 @@
 """Compare the buckling records of an older commit with the current store, scene by scene.
 
-Old records (any earlier key layout) are mapped to today's :class:`~dyntorsion.scene.Scene`
+Old records (any earlier key layout) are mapped to today's :class:`~dyntorsion.buckling.scene.Scene`
 and looked up by today's key; their results are compared entry by entry.  Prints one line
 per preset-level summary and every scene whose numbers differ.
 
@@ -17,9 +17,9 @@ from collections import Counter
 
 from dyntorsion import Rod
 from dyntorsion import genalpha as ga
-from dyntorsion import results as R
-from dyntorsion import sweep as S
-from dyntorsion.buckling import Perturbation
+from dyntorsion.buckling.simulate import Perturbation
+from dyntorsion.store import results as R
+from dyntorsion.studies import sweep as S
 
 
 def old_records(commit: str, kind: str = S.KIND) -> list[dict]:

@@ -20,9 +20,9 @@ from dyntorsion import Rod
 from dyntorsion import buckling as b
 from dyntorsion import genalpha as ga
 from dyntorsion._numba import jit
+from dyntorsion.buckling.loading import EQ30
 from dyntorsion.genalpha.discrete import factor, residual, setup, solve_neg
-from dyntorsion.loading import EQ30
-from dyntorsion.model import Cosserat
+from dyntorsion.model.cosserat import Cosserat
 
 
 @jit

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 from scipy.linalg import solve_banded
 
-from dyntorsion import _abd
+from dyntorsion.genalpha import abd as _abd
 
 
 @pytest.mark.parametrize("nf,nbl,n", [(12, 6, 1), (12, 6, 40), (2, 1, 30), (5, 2, 7), (3, 0, 4)])
@@ -67,8 +67,8 @@ def rod_jacobian(rng, n: int, dt: float):
     random), N = n cells."""
     from dyntorsion import Rod
     from dyntorsion import genalpha as ga
-    from dyntorsion.loading import EQ30
-    from dyntorsion.model import IDX, Cosserat
+    from dyntorsion.buckling.loading import EQ30
+    from dyntorsion.model.cosserat import IDX, Cosserat
 
     model = Cosserat(Rod())
     system = model.system()

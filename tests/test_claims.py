@@ -1,4 +1,4 @@
-"""The consistency map's fits and claims (dyntorsion.claims) on data with known answers."""
+"""The consistency map's fits and claims (dyntorsion.studies.claims) on data with known answers."""
 
 from __future__ import annotations
 
@@ -11,10 +11,10 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from dyntorsion import Rod
-from dyntorsion import claims as C
-from dyntorsion.consistency import LADDER
+from dyntorsion.buckling.statics import critical_twist
 from dyntorsion.published import value
-from dyntorsion.statics import critical_twist
+from dyntorsion.studies import claims as C
+from dyntorsion.studies.consistency import LADDER
 
 KC = critical_twist(Rod.paper())
 

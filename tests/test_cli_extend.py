@@ -7,10 +7,11 @@ import re
 import pytest
 
 from dyntorsion import Rod
-from dyntorsion import sweep as S
-from dyntorsion.buckling import fit_power_law
-from dyntorsion.cli import main
-from dyntorsion.statics import critical_twist
+from dyntorsion.app.cli import main
+from dyntorsion.buckling.delay_law import fit_power_law
+from dyntorsion.buckling.statics import critical_twist
+from dyntorsion.store import location as L
+from dyntorsion.studies import sweep as S
 
 STEEL_CLI = ["--E", "2e11", "--nu", "0.3", "--rho", "7850", "--n-cells", "20", "--dt", "2e-4"]
 STEEL = Rod(E=2e11, nu=0.3, rho=7850.0)
@@ -56,7 +57,7 @@ def test_fit_says_why_below_four_rates(tmp_path, capsys):
 
 def test_the_store_can_be_set_by_the_environment(tmp_path, monkeypatch, capsys):
     monkeypatch.setenv("DYNTORSION_DATA", str(tmp_path / "env-store"))
-    assert S.default_store() == tmp_path / "env-store"
+    assert L.default_store() == tmp_path / "env-store"
     assert main(["sweep", "--rates", "16", "--kappa0", "10", *STEEL_CLI, "--quiet"]) == 0
     assert len(list((tmp_path / "env-store").glob("buckling-onset-*.json"))) == 1
 
@@ -95,7 +96,7 @@ def test_bad_scene_options_say_what_is_wrong(argv, message, capsys):
 
 
 def test_a_paced_sweep_from_the_command_line_is_the_paced_scenes(tmp_path, capsys):
-    from dyntorsion.pacing import paced
+    from dyntorsion.studies.pacing import paced
 
     store = str(tmp_path / "paced")
     argv = ["sweep", "--rates", "4,16", "--n-cells", "40", "--until", "first-peak"]

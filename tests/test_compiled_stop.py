@@ -1,4 +1,4 @@
-"""Compiled stop tests (:mod:`dyntorsion.genalpha.watch`, :mod:`dyntorsion.stops`): the
+"""Compiled stop tests (:mod:`dyntorsion.genalpha.watch`, :mod:`dyntorsion.buckling.stops`): the
 march consults them at exactly the levels at which ``integrate`` calls a Python stop, so
 a run stops at the same level with the same message and the same traces."""
 
@@ -6,10 +6,11 @@ import numba
 import numpy as np
 import pytest
 
-from dyntorsion import buckling, stops
+from dyntorsion import buckling as buckling
+from dyntorsion.buckling.onset import PEAK_FALL, reference_level
+from dyntorsion.buckling.simulate import stops
 from dyntorsion.genalpha import LongSteps, Scheme, StepControl
 from dyntorsion.genalpha.watch import STOP_SIGNATURE, CompiledStop
-from dyntorsion.onset import PEAK_FALL, reference_level
 
 CONTROL = Scheme(control=StepControl())
 

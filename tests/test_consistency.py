@@ -1,5 +1,5 @@
 """The committed consistency map (issue 19): its records, its level of the model, and the
-answer it gives (dyntorsion.consistency, dyntorsion.claims)."""
+answer it gives (dyntorsion.studies.consistency, dyntorsion.studies.claims)."""
 
 from __future__ import annotations
 
@@ -9,10 +9,10 @@ import numpy as np
 import pytest
 
 from dyntorsion import Rod
-from dyntorsion import claims as C
-from dyntorsion import consistency as K
-from dyntorsion.onset_rules import RULES
-from dyntorsion.statics import critical_twist
+from dyntorsion.buckling.onset_rules import RULES
+from dyntorsion.buckling.statics import critical_twist
+from dyntorsion.studies import claims as C
+from dyntorsion.studies import consistency as K
 
 KC = critical_twist(Rod.paper())
 

@@ -3,11 +3,12 @@
 import numpy as np
 import pytest
 
-from dyntorsion import Rod, buckling
+from dyntorsion import Rod
+from dyntorsion import buckling as buckling
 from dyntorsion import genalpha as ga
-from dyntorsion.loading import Ends, IllPosedEndsError
-from dyntorsion.postbuckling import GridTooCoarseError, PostBucklingError
-from dyntorsion.sweep import Scene, simulate_scene
+from dyntorsion.buckling.postbuckling import GridTooCoarseError, PostBucklingError
+from dyntorsion.buckling.scene import Scene, simulate_scene
+from dyntorsion.model.ends import Ends, IllPosedEndsError
 from dyntorsion.verification import Manufactured, observed_orders
 
 CONTROL = ga.Scheme(control=ga.StepControl())
@@ -150,7 +151,7 @@ def test_three_causes_three_messages():
 
 # ------------------------------------------------------------------ after the onset
 def test_localisation_width():
-    from dyntorsion.postbuckling import localisation_width
+    from dyntorsion.buckling.postbuckling import localisation_width
 
     s = np.linspace(0.0, 2.0, 201)
     assert localisation_width(s, np.ones_like(s)) == pytest.approx(0.5, abs=0.01)
@@ -164,7 +165,7 @@ def test_localisation_width():
 
 
 def test_contact_measures_of_a_run_to_contact():
-    from dyntorsion.postbuckling import contact_measures
+    from dyntorsion.buckling.postbuckling import contact_measures
 
     run = simulate_scene(Scene(a=16.0, kappa0=10.0, n_cells=100, dt=0.005, scheme=CONTROL))
     m = contact_measures(run)
@@ -181,7 +182,7 @@ def test_contact_measures_of_a_run_to_contact():
 def test_energy_balance_closes_at_second_order_before_the_onset(quadrature):
     """E - E0 - W (work of the end twist and the seed) along the prebuckling run: a small
     fraction of the work done, falling as dt^2 with both load quadratures."""
-    from dyntorsion.postbuckling import energy_balance
+    from dyntorsion.buckling.postbuckling import energy_balance
 
     defects = []
     for dt in (0.01, 0.005, 0.0025):
@@ -203,7 +204,7 @@ def test_energy_balance_closes_at_second_order_before_the_onset(quadrature):
 
 
 def test_run_scene_records_what_the_controller_did():
-    from dyntorsion.sweep import run_scene
+    from dyntorsion.buckling.scene import run_scene
 
     coarse = dict(a=16.0, kappa0=10.0, n_cells=50, dt=0.01)
     fixed = run_scene(Scene(**coarse))
@@ -217,7 +218,7 @@ def test_run_scene_records_what_the_controller_did():
 
 def test_cli_control_follows_the_rod_to_self_contact(capsys):
     """`dyntorsion buckle --control` runs past the whip that stops the fixed-step run."""
-    from dyntorsion.cli import main
+    from dyntorsion.app.cli import main
 
     args = ["buckle", "--a", "16", "--kappa0", "10", "--n-cells", "100", "--dt", "0.005"]
     main(args)

@@ -4,11 +4,14 @@ import numpy as np
 import pytest
 
 from dyntorsion import Rod
-from dyntorsion import sweep as S
-from dyntorsion.buckling import critical_twist, fit_power_law
+from dyntorsion.buckling.delay_law import fit_power_law
+from dyntorsion.buckling.statics import critical_twist
+from dyntorsion.store import location as L
+from dyntorsion.studies import presets as P
+from dyntorsion.studies import sweep as S
 
 ROD = Rod()
-A = np.array(S.FIG10_RATES)
+A = np.array(P.FIG10_RATES)
 
 
 # ------------------------------------------------------------------ the fit itself
@@ -76,7 +79,7 @@ def test_fit_rejects_bad_input(kw, msg):
 # ------------------------------------------------------------------ the committed sweep
 def committed(name):
     """A preset read from data/scenes: missing or stale records fail with `make data`."""
-    return S.cached(name)
+    return P.cached(name)
 
 
 @pytest.fixture(scope="module", params=["fig10", "fig10-tiny-seed"])
@@ -140,10 +143,10 @@ def test_committed_sweep_is_grid_independent(seed):
 
 # ------------------------------------------------------------------ imperfection sensitivity
 def test_onset_is_later_the_smaller_the_seed_and_never_without_one():
-    scenes = S.preset("imperfection")
+    scenes = P.preset("imperfection")
     table = committed("imperfection")
-    store = S.Store(S.DATA)
-    for a in S.IMPERFECTION_RATES:
+    store = S.Store(L.DATA)
+    for a in P.IMPERFECTION_RATES:
         rows = [
             (sc.seed.magnitude, k)
             for sc, k in zip(scenes, table["kappa3"], strict=True)

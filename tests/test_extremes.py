@@ -14,7 +14,12 @@ import pytest
 
 from dyntorsion import Rod
 from dyntorsion import waves as w
-from dyntorsion.buckling import TESTED_COURANT, TESTED_DT_OVER_T0, GridWarning, simulate
+from dyntorsion.buckling.simulate import (
+    TESTED_COURANT,
+    TESTED_DT_OVER_T0,
+    GridWarning,
+    simulate,
+)
 from dyntorsion.genalpha import ConvergenceError, Scheme, SchemeWarning
 
 ROD = Rod()

@@ -18,13 +18,15 @@ import numpy as np
 import pytest
 
 from dyntorsion import Rod
-from dyntorsion import results as R
-from dyntorsion import sweep as S
 from dyntorsion import waves as W
-from dyntorsion.buckling import Perturbation, detect_onset, fit_power_law, simulate
-from dyntorsion.cli import main
+from dyntorsion.app.cli import main
+from dyntorsion.buckling.delay_law import fit_power_law
+from dyntorsion.buckling.onset import detect_onset
+from dyntorsion.buckling.simulate import Perturbation, simulate
 from dyntorsion.genalpha.guard import BudgetError, StepLongerThanRunError
-from dyntorsion.leases import acquire_lease
+from dyntorsion.store import results as R
+from dyntorsion.store.leases import acquire_lease
+from dyntorsion.studies import sweep as S
 
 CLI = [sys.executable, "-m", "dyntorsion"]
 TINY = ["--n-cells", "8", "--dt", "0.02"]
@@ -403,7 +405,7 @@ def test_cli_one_line_and_debug_traceback(tmp_path):
     ],
 )
 def test_every_error_kind_gets_one_line_and_a_status(err, status, words):
-    from dyntorsion.faults import describe
+    from dyntorsion.app.faults import describe
 
     line, code = describe(err)
     assert code == status and words in line and "\n" not in line

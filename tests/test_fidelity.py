@@ -5,11 +5,13 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from dyntorsion import Rod, fidelity
-from dyntorsion import sweep as S
+from dyntorsion import Rod
 from dyntorsion import waves as w
-from dyntorsion.cli import main
-from dyntorsion.fidelity import Fidelity
+from dyntorsion.app.cli import main
+from dyntorsion.studies import fidelity
+from dyntorsion.studies import presets as P
+from dyntorsion.studies import sweep as S
+from dyntorsion.studies.fidelity import Fidelity
 
 
 def test_levels_refine_monotonically():
@@ -56,9 +58,9 @@ def test_get_and_environment(monkeypatch):
 def test_standard_buckling_is_the_grid_of_the_cached_sweeps():
     """The presets' grid is the standard level's (and their scheme adds step control)."""
     std = fidelity.get("buckling", "standard")
-    for sc in S.preset("fig10"):
+    for sc in P.preset("fig10"):
         expected = S.Scene(a=sc.a, seed=sc.seed, **std.simulate_kwargs())
-        expected = replace(expected, scheme=replace(expected.scheme, control=S.PRESET_CONTROL))
+        expected = replace(expected, scheme=replace(expected.scheme, control=P.PRESET_CONTROL))
         assert sc.params() == expected.params()
 
 
@@ -82,7 +84,7 @@ LIMITS = {"quick": 0.01, "standard": 0.005, "fine": 0.001}
 def test_buckling_presets_meet_their_accuracy(ladder):
     """t_c of each preset against the finest grid of the committed ladder (N = 400,
     dt = 0.00125): quick within 1 %, standard within 0.5 %, fine within 0.1 %."""
-    table = S.cached(ladder)
+    table = P.cached(ladder)
     ref = table[(table.n_cells == 400) & (table.dt == 0.00125)]["t_c"].iloc[0]
     for name, limit in LIMITS.items():
         f = fidelity.get("buckling", name)

@@ -5,8 +5,8 @@ import pytest
 
 from dyntorsion import Rod
 from dyntorsion import genalpha as ga
-from dyntorsion.loading import EQ30
-from dyntorsion.model import IDX, Cosserat
+from dyntorsion.buckling.loading import EQ30
+from dyntorsion.model.cosserat import IDX, Cosserat
 from dyntorsion.verification import Manufactured
 from dyntorsion.waves import Torsion
 

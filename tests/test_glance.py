@@ -5,7 +5,7 @@ import json
 import pandas as pd
 import pytest
 
-from dyntorsion import glance
+from dyntorsion.app import glance
 
 
 @pytest.fixture(scope="module")

@@ -1,4 +1,4 @@
-"""Linear stability of the twisted, spinning rod (dyntorsion.linear_stability)."""
+"""Linear stability of the twisted, spinning rod (dyntorsion.beyond.linear_stability)."""
 
 import math
 
@@ -7,11 +7,13 @@ import numpy as np
 import pytest
 
 from dyntorsion import Rod
-from dyntorsion import linear_predictions as LP
-from dyntorsion import linear_stability as LS
-from dyntorsion import results as R
-from dyntorsion import sweep as S
-from dyntorsion.buckling import M_CRI_MP, Perturbation, critical_twist
+from dyntorsion.beyond import linear_stability as LS
+from dyntorsion.buckling.simulate import M_CRI_MP, Perturbation
+from dyntorsion.buckling.statics import critical_twist
+from dyntorsion.store import results as R
+from dyntorsion.studies import linear_predictions as LP
+from dyntorsion.studies import presets as P
+from dyntorsion.studies import sweep as S
 from dyntorsion.waves import linear_loading_dalembert
 
 ROD = Rod()
@@ -213,7 +215,7 @@ def _reference_passage(model, a, seed, *, waves, spin, terms, dt, t_stop):
     ],
 )
 def test_compiled_passage_matches_the_plain_route(fast_model, waves, spin, seed):
-    """The compiled march over separated coefficient matrices (dyntorsion.passage) gives
+    """The compiled march over separated coefficient matrices (dyntorsion.beyond.passage) gives
     the u3(L) trace of the plain NumPy evaluation of (L2) to round-off."""
     a, dt, t_stop = 12.8, 2e-3, 2.0
     p = fast_model.passage(
@@ -305,14 +307,14 @@ def test_linear_theory_predicts_the_simulated_onset_over_fig10(seed):
     """The finding of "Why is buckling delayed? (2)": with no fitted parameter the linear
     prediction of the time |u3(L)| reaches u_ref lies within 3 % of the simulated one at
     every rate of Fig 10 (stated and tiny seed), and is never later."""
-    sim = S.cached("fig10" + seed)
+    sim = P.cached("fig10" + seed)
     lin = LP.cached("linear-fig10" + seed)
     ratio = lin["t_ref"].to_numpy() / sim["t_ref"].to_numpy()
     assert np.all(ratio < 1.0) and np.all(ratio > 0.97), ratio
 
 
 def test_cli_reads_the_committed_predictions(capsys):
-    from dyntorsion.cli import main
+    from dyntorsion.app.cli import main
 
     assert main(["linear", "--preset", "linear-variants", "--on-stale", "error", "--quiet"]) == 0
     out = capsys.readouterr().out
@@ -335,8 +337,8 @@ def test_fast_estimate_is_within_3_percent_of_the_simulated_onsets():
     """linear_predictions.estimate against the committed Fig 10 sweeps (stated and tiny
     seed): the threshold time within 3 % of the simulation's at every rate."""
     for name in ("fig10", "fig10-tiny-seed"):
-        sim = S.cached(name)
-        for sc, t_ref in zip(S.preset(name), sim.t_ref, strict=True):
+        sim = P.cached(name)
+        for sc, t_ref in zip(P.preset(name), sim.t_ref, strict=True):
             e = LP.estimate(sc)
             assert 6 <= e.modes <= 24
             assert e.t_ref == pytest.approx(t_ref, rel=0.03), (name, sc.a)

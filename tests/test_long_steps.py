@@ -7,11 +7,11 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from dyntorsion import buckling
+from dyntorsion import buckling as buckling
 from dyntorsion import genalpha as ga
+from dyntorsion.buckling.scene import Scene, run_scene
 from dyntorsion.genalpha.march import closes, make_gate
-from dyntorsion.results import digest
-from dyntorsion.scene import Scene, run_scene
+from dyntorsion.store.results import digest
 
 DT = 2.0**-6  # so that factor * dt is exact
 SCENE = dict(a=1.6, kappa0=10.0, n_cells=10, t_end=3.0, stop_at_contact=False)

@@ -5,8 +5,8 @@ import pytest
 
 from dyntorsion import Rod
 from dyntorsion import genalpha as ga
-from dyntorsion.loading import EQ30
-from dyntorsion.model import FIELDS, IDX, TERMS, Cosserat
+from dyntorsion.buckling.loading import EQ30
+from dyntorsion.model.cosserat import FIELDS, IDX, TERMS, Cosserat
 
 
 def _fd_jacobian(system, y, h=1e-7):

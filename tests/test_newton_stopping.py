@@ -9,9 +9,9 @@ import pytest
 
 from dyntorsion import Rod
 from dyntorsion import genalpha as ga
-from dyntorsion.loading import EQ30
-from dyntorsion.model import IDX, Cosserat
-from dyntorsion.sweep import Scene
+from dyntorsion.buckling.loading import EQ30
+from dyntorsion.buckling.scene import Scene
+from dyntorsion.model.cosserat import IDX, Cosserat
 
 CONTRACTION = ga.Newton(stopping="contraction")
 CORRECTION = ga.Newton(stopping="correction")

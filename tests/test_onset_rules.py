@@ -1,4 +1,4 @@
-"""The onset rules of the consistency map (dyntorsion.onset_rules) on traces whose
+"""The onset rules of the consistency map (dyntorsion.buckling.onset_rules) on traces whose
 answer is known exactly."""
 
 from __future__ import annotations
@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 
 from dyntorsion import Rod
 from dyntorsion import buckling as b
-from dyntorsion.onset_rules import RULES, onsets_by_rule, steepest_tangent
+from dyntorsion.buckling.onset_rules import RULES, onsets_by_rule, steepest_tangent
 
 
 def _run(t, u, a=2.0, kappa0=1.0):
@@ -102,9 +102,9 @@ def test_a_run_to_the_first_peak_gives_the_onsets_of_the_run_to_contact(control)
     rule; the default keeps its cache key, the other enters it."""
     from dataclasses import replace
 
-    from dyntorsion.onset import detect_onset
-    from dyntorsion.scene import Scene, simulate_scene
-    from dyntorsion.sweep import PRESET_CONTROL
+    from dyntorsion.buckling.onset import detect_onset
+    from dyntorsion.buckling.scene import Scene, simulate_scene
+    from dyntorsion.studies.presets import PRESET_CONTROL
 
     full = Scene(a=8.0, n_cells=30, dt=0.01)
     if control:
@@ -121,7 +121,7 @@ def test_a_run_to_the_first_peak_gives_the_onsets_of_the_run_to_contact(control)
 
 
 def test_until_names_the_allowed_values():
-    from dyntorsion.scene import Scene
+    from dyntorsion.buckling.scene import Scene
 
     with pytest.raises(ValueError, match="until='peak'; allowed: 'contact', 'first-peak'"):
         Scene(a=1.0, until="peak")

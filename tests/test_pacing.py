@@ -1,4 +1,4 @@
-"""Paced steps (dyntorsion.pacing): the time step from the fast onset estimate."""
+"""Paced steps (dyntorsion.studies.pacing): the time step from the fast onset estimate."""
 
 import math
 from dataclasses import replace
@@ -8,11 +8,11 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from dyntorsion import Rod
-from dyntorsion import sweep as S
-from dyntorsion.linear_predictions import estimate
-from dyntorsion.loading import AxialLoad, Ramp
-from dyntorsion.pacing import STEPS, TOL, paced, paced_dt
-from dyntorsion.scene import Scene, run_scene
+from dyntorsion.beyond.predictions import estimate
+from dyntorsion.buckling.loading import AxialLoad, Ramp
+from dyntorsion.buckling.scene import Scene, run_scene
+from dyntorsion.studies import presets as P
+from dyntorsion.studies.pacing import STEPS, TOL, paced, paced_dt
 
 
 @settings(max_examples=40, deadline=None)
@@ -44,7 +44,7 @@ def test_scenes_the_estimate_does_not_cover_are_refused_with_the_reason():
             paced(scene)
 
 
-@pytest.mark.parametrize("a", [S.FIG10_RATES[0], 1.6, S.FIG10_RATES[-1]])
+@pytest.mark.parametrize("a", [P.FIG10_RATES[0], 1.6, P.FIG10_RATES[-1]])
 def test_the_step_reaches_the_estimated_onset_in_the_asked_steps(a):
     scene = Scene(a=a, kappa0=10.0, n_cells=60, until="first-peak")
     t_ref = estimate(scene).t_ref
@@ -72,15 +72,15 @@ def test_a_paced_scene_finds_the_standard_grid_s_onset(i):
     same scene paced (about 500 steps instead of 600 to 12,000): within 0.25 % (the
     standard grid's own error against the converged onset is 0.3-0.5 % at these rates;
     measured changes at the 16 rates: at most 0.11 %)."""
-    standard = S.cached("fig10").iloc[i]
-    scene = S.preset("fig10")[i]
+    standard = P.cached("fig10").iloc[i]
+    scene = P.preset("fig10")[i]
     out = run_scene(paced(replace(scene, until="first-peak")))
     assert out["t_c"] == pytest.approx(standard.t_c, rel=2.5e-3)
     assert out["steps"] < min(800, standard.steps)
 
 
 def test_the_paced_preset_is_the_fig10_sweep_paced():
-    scenes, plain = S.preset("fig10-paced"), S.preset("fig10")
+    scenes, plain = P.preset("fig10-paced"), P.preset("fig10")
     assert [sc.a for sc in scenes] == [sc.a for sc in plain]
     assert all(sc.until == "first-peak" and sc.newton.tol == TOL for sc in scenes)
     dts = [sc.dt for sc in scenes]

@@ -8,7 +8,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import pytest  # noqa: E402
 from matplotlib import animation  # noqa: E402
 
-from dyntorsion import plotting  # noqa: E402
+from dyntorsion.app import plotting
 
 
 def test_style_is_readable():

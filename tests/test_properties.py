@@ -22,9 +22,10 @@ from hypothesis import assume, event, given, settings
 from hypothesis import strategies as st
 
 from dyntorsion import Rod
-from dyntorsion import sweep as S
 from dyntorsion import waves as W
-from dyntorsion.buckling import STATUSES, GridWarning, Perturbation, fit_power_law, simulate
+from dyntorsion.buckling.delay_law import fit_power_law
+from dyntorsion.buckling.simulate import STATUSES, GridWarning, Perturbation, simulate
+from dyntorsion.studies import sweep as S
 
 FEW = max(3, settings.default.max_examples // 4)  # for examples that run a scene or a process
 

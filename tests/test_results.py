@@ -6,8 +6,8 @@ import json
 import pytest
 
 from dyntorsion import __version__
-from dyntorsion import fingerprint as F
-from dyntorsion import results as R
+from dyntorsion.store import fingerprint as F
+from dyntorsion.store import results as R
 
 PARAMS = {"a": 1.6, "grid": {"n_cells": 100, "dt": 0.005}, "window": (0.1, 0.5)}
 RESULT = {"t_c": 14.7, "kappa3": 23.52, "stopped": "self-contact"}
@@ -118,7 +118,9 @@ def test_fingerprint_ignores_docstrings_and_comments_but_not_code():
         'def f(x):\n    """Other words."""\n    # a comment\n    return 2 * x\n'
     )
     assert dump(base) != dump('def f(x):\n    """Eq (33)."""\n    return 3 * x\n')
-    assert F._source_digest("dyntorsion.results") == F._source_digest("dyntorsion.results")
+    assert F._source_digest("dyntorsion.store.results") == F._source_digest(
+        "dyntorsion.store.results"
+    )
     assert F.code_fingerprint() == F.code_fingerprint(F.DEFAULT_ROOTS)
     assert F.code_fingerprint(F.DEFAULT_ROOTS[:-1]) != F.code_fingerprint()
 
@@ -127,21 +129,21 @@ def test_fingerprint_reaches_what_the_old_hand_list_missed():
     """The functions issue 14 found outside the hand-kept list are on the derived path."""
     reached = F.reachable(F.KIND_ROOTS["buckling-onset"])
     for name in (
-        "dyntorsion.scene:simulate_scene",
-        "dyntorsion.statics:critical_moment",
-        "dyntorsion.statics:critical_twist",
-        "dyntorsion.onset:detect_onset",
+        "dyntorsion.buckling.scene:simulate_scene",
+        "dyntorsion.buckling.statics:critical_moment",
+        "dyntorsion.buckling.statics:critical_twist",
+        "dyntorsion.buckling.onset:detect_onset",
         "dyntorsion.published:value",  # the paper's b and sigma size the runs
         "dyntorsion.genalpha.integrate:integrate",
         "dyntorsion.genalpha.march:march",  # the compiled march and what it calls
         "dyntorsion.genalpha.newton:solve_step",
-        "dyntorsion.model:load_vector",  # a compiled kernel, by its Python source
-        "dyntorsion._abd:factor",
-        "dyntorsion.loading",
+        "dyntorsion.model.cosserat:load_vector",  # a compiled kernel, by its Python source
+        "dyntorsion.genalpha.abd:factor",
+        "dyntorsion.buckling.loading",
     ):
         assert name in reached, name
-    assert not any(n.startswith("dyntorsion.results") for n in reached)
-    assert not any(n.startswith("dyntorsion.cli") for n in reached)
+    assert not any(n.startswith("dyntorsion.store.results") for n in reached)
+    assert not any(n.startswith("dyntorsion.app.cli") for n in reached)
 
 
 def test_fingerprint_covers_every_function_a_record_runs():
@@ -149,7 +151,7 @@ def test_fingerprint_covers_every_function_a_record_runs():
     inside a definition the fingerprint covers."""
     import sys
 
-    from dyntorsion.sweep import Scene, run_scene
+    from dyntorsion.buckling.scene import Scene, run_scene
 
     scene = Scene(a=16.0, kappa0=10.0, n_cells=8, dt=0.02, t_end=0.4)
     executed: set[tuple[str, str]] = set()
@@ -158,7 +160,7 @@ def test_fingerprint_covers_every_function_a_record_runs():
         if event == "call":
             mod = frame.f_globals.get("__name__", "")
             generated = not frame.f_code.co_filename.endswith(".py")  # dataclass methods
-            if mod.startswith("dyntorsion") and mod != "dyntorsion.results" and not generated:
+            if mod.startswith("dyntorsion") and mod != "dyntorsion.store.results" and not generated:
                 executed.add((mod, frame.f_code.co_qualname))
 
     sys.setprofile(tracer)

@@ -48,7 +48,7 @@ def test_bad_parameters_name_the_parameter(name, value):
 from hypothesis import given, settings  # noqa: E402
 from hypothesis import strategies as st  # noqa: E402
 
-from dyntorsion.rod import Section  # noqa: E402
+from dyntorsion.model.rod import Section  # noqa: E402
 
 ANY = st.one_of(
     st.floats(allow_nan=True, allow_infinity=True),

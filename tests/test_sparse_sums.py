@@ -8,9 +8,9 @@ import pytest
 
 from dyntorsion import Rod
 from dyntorsion import genalpha as ga
+from dyntorsion.buckling.loading import EQ30
 from dyntorsion.genalpha.discrete import Pattern, pattern, prepare_step, residual, setup
-from dyntorsion.loading import EQ30
-from dyntorsion.model import IDX, Cosserat
+from dyntorsion.model.cosserat import IDX, Cosserat
 
 
 def _dense(nf: int) -> Pattern:

@@ -1,4 +1,4 @@
-"""Static critical twist for any section and axial load (dyntorsion.statics).
+"""Static critical twist for any section and axial load (dyntorsion.buckling.statics).
 
 Three routes are checked against each other: the closed forms (mpmath), the body-frame
 transfer matrix (any B1, B2) and Chebyshev collocation (isotropic)."""
@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 
 from dyntorsion import Rod
-from dyntorsion import statics as S
-from dyntorsion.linear_stability import LateralModel
+from dyntorsion.beyond.linear_stability import LateralModel
+from dyntorsion.buckling import statics as S
 
 ROD = Rod()
 B, L = ROD.B1, ROD.L

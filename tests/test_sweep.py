@@ -11,10 +11,12 @@ import pytest
 
 from dyntorsion import Rod
 from dyntorsion import genalpha as ga
-from dyntorsion import results as R
-from dyntorsion import sweep as S
-from dyntorsion.buckling import Perturbation, critical_twist
-from dyntorsion.cli import main
+from dyntorsion.app.cli import main
+from dyntorsion.buckling.simulate import Perturbation
+from dyntorsion.buckling.statics import critical_twist
+from dyntorsion.store import results as R
+from dyntorsion.studies import presets as P
+from dyntorsion.studies import sweep as S
 
 COARSE = {"kappa0": 10.0, "n_cells": 40, "dt": 0.01}
 COARSE_CLI = ["--kappa0", "10", "--n-cells", "40", "--dt", "0.01"]  # the same, for the CLI
@@ -73,8 +75,15 @@ def _pulse_edited(t, width):
 
 def test_scene_params_name_everything():
     """Each parameter that changes the result, changed alone, gives a new cache key."""
-    from dyntorsion.loading import AxialLoad, Custom, Ends, Polynomial, RampHold, Tabulated
-    from dyntorsion.rod import Section
+    from dyntorsion.buckling.loading import (
+        AxialLoad,
+        Custom,
+        Polynomial,
+        RampHold,
+        Tabulated,
+    )
+    from dyntorsion.model.ends import Ends
+    from dyntorsion.model.rod import Section
 
     T = 5.0  # for scenes with another history or ends, which need an explicit t_end
     props = dict(
@@ -166,17 +175,17 @@ def test_a_switch_given_twice_is_refused_not_keyed_as_another():
 
 
 def test_presets():
-    assert len(S.FIG10_RATES) >= 12
-    assert S.FIG10_RATES[-1] / S.FIG10_RATES[0] >= 100
-    assert any(abs(a - 1.6) < 1e-12 for a in S.FIG10_RATES)
-    assert np.all(np.diff(np.log(S.FIG10_RATES)) == pytest.approx(np.log(10) / 6))
-    fig10 = S.preset("fig10")
+    assert len(P.FIG10_RATES) >= 12
+    assert P.FIG10_RATES[-1] / P.FIG10_RATES[0] >= 100
+    assert any(abs(a - 1.6) < 1e-12 for a in P.FIG10_RATES)
+    assert np.all(np.diff(np.log(P.FIG10_RATES)) == pytest.approx(np.log(10) / 6))
+    fig10 = P.preset("fig10")
     assert {sc.kappa0 for sc in fig10} == {10.0}
     assert {sc.seed.magnitude for sc in fig10} == {1e-8}
-    assert {sc.seed.magnitude for sc in S.preset("fig10-tiny-seed")} == {1e-17}
-    assert [sc.rod.rho for sc in S.preset("fig08-09")] == [1500.0, 5000.0]
+    assert {sc.seed.magnitude for sc in P.preset("fig10-tiny-seed")} == {1e-17}
+    assert [sc.rod.rho for sc in P.preset("fig08-09")] == [1500.0, 5000.0]
     with pytest.raises(ValueError, match="preset="):
-        S.preset("fig11")
+        P.preset("fig11")
 
 
 # ------------------------------------------------------------------ the mini sweep

@@ -7,8 +7,8 @@ import pytest
 from dyntorsion import Rod
 from dyntorsion import genalpha as ga
 from dyntorsion import waves as w
-from dyntorsion.loading import EQ30
-from dyntorsion.model import Cosserat
+from dyntorsion.buckling.loading import EQ30
+from dyntorsion.model.cosserat import Cosserat
 from dyntorsion.verification import observed_orders
 
 ROD = Rod.paper()

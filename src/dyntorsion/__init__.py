@@ -8,13 +8,7 @@ torsional waves (section 5) and delayed buckling (section 6).
 
 from __future__ import annotations
 
-from importlib.metadata import PackageNotFoundError, version
-
-from .rod import Rod
-
-try:
-    __version__ = version("dyntorsion")
-except PackageNotFoundError:  # pragma: no cover - running from a source tree
-    __version__ = "0+unknown"
+from ._version import __version__
+from .model.rod import Rod
 
 __all__ = ["Rod", "__version__"]

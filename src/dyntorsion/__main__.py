@@ -1,8 +1,8 @@
-"""``python -m dyntorsion``: the command line (see :mod:`dyntorsion.cli`)."""
+"""``python -m dyntorsion``: the command line (see :mod:`dyntorsion.app.cli`)."""
 
 import sys
 
-from .cli import main
+from .app.cli import main
 
 if __name__ == "__main__":
     sys.exit(main())

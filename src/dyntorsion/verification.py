@@ -14,9 +14,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import genalpha as ga
-from .loading import EQ30
-from .model import Cosserat
-from .rod import Rod
+from .model.cosserat import Cosserat
+from .model.ends import EQ30
+from .model.rod import Rod
 
 #: the boundary rows of eq (30): prescribed fields at s = 0 and s = L
 LEFT_FIELDS, RIGHT_FIELDS = EQ30.left, EQ30.right

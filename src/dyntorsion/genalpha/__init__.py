@@ -46,10 +46,12 @@ Where each part lives:
 * :mod:`.initial` -- consistent initial rates and states.
 """
 
+from ..model.system import Boundary, System
 from .discrete import Constants, Work
 from .initial import algebraic_residual, consistent_initial_state, consistent_rates
-from .integrate import Run, integrate, newton_iteration_kernel
+from .integrate import integrate, newton_iteration_kernel
 from .newton import ConvergenceError, Newton, Outcome, Status
+from .run import Run
 from .scheme import (
     QUADRATURES,
     Coefficients,
@@ -59,7 +61,6 @@ from .scheme import (
     StepControl,
     parameters,
 )
-from .system import Boundary, System
 
 __all__ = [
     "parameters",

@@ -23,10 +23,10 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
-from .. import _abd
 from .._numba import A1, A2, A3, I1, I2, jit, named
+from ..model.system import Boundary, System
+from . import abd as _abd
 from .scheme import Coefficients, Scheme
-from .system import Boundary, System
 
 __all__ = ["Constants", "Work", "constants", "setup"]
 

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..model.system import Boundary, System
 from .newton import ConvergenceError
 from .scheme import Scheme
-from .system import Boundary, System
 
 __all__ = ["consistent_rates", "algebraic_residual", "consistent_initial_state"]
 

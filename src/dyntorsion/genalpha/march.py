@@ -8,8 +8,8 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
-from .. import _abd
 from .._numba import A1, A2, A3, I1, JACOBIAN_SIGNATURE, LOAD_SIGNATURE, jit, named
+from . import abd as _abd
 from .discrete import CONSTANTS, WORK, factor, prepare_step, residual, solve_neg
 from .newton import _CONVERGED, NEWTON_OPTIONS, OUTCOME, NewtonOptions, Outcome, solve_step
 from .watch import STOP_SIGNATURE, WATCH

@@ -16,7 +16,7 @@ from .._numba import jit, named
 from .discrete import factor, residual, solve_neg
 
 if TYPE_CHECKING:
-    from .integrate import Run
+    from .run import Run
 
 __all__ = ["Newton", "NewtonOptions", "Status", "Outcome", "ConvergenceError"]
 

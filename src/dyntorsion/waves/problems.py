@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 
 from ..genalpha import Boundary, Newton, Run, Scheme, System, integrate
-from ..rod import Rod
+from ..model.rod import Rod
 from .checks import _positive_number
 from .dalembert import instant_release_dalembert, linear_loading_dalembert, smooth_release_dalembert
 from .series import instant_release_exact, linear_loading_exact, smooth_release_exact

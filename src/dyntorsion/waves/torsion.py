@@ -8,7 +8,7 @@ import numpy as np
 
 from .._numba import jacobian_kernel, load_kernel
 from ..genalpha import System
-from ..rod import Rod
+from ..model.rod import Rod
 from .checks import FIELDS
 
 

@@ -1,0 +1,355 @@
+"""The command line: ``dyntorsion buckle``, ``sweep``, ``linear``, ``fit``.
+
+``python -m dyntorsion ...`` is the same program.
+"""
+
+from __future__ import annotations
+
+import argparse
+import re
+import signal
+import sys
+import threading
+from collections.abc import Sequence
+
+import numpy as np
+
+from .. import __version__
+from ..buckling.delay_law import fit_power_law
+from ..buckling.scene import Scene, run_scene
+from ..published import value
+from ..store.location import default_store
+from ..store.results import ON_STALE, Store
+from ..studies.presets import PRESETS, cached, preset
+from ..studies.sweep import KIND, run_sweep
+from .cli_options import add_scene_options, parse_rates, scene_from
+from .faults import EXIT_INTERRUPTED, describe
+
+
+def _buckle(args: argparse.Namespace) -> int:
+    scene = scene_from(args, args.a)
+    if args.store:
+        table = run_sweep([scene], args.store, on_stale=args.on_stale, progress=False)
+        row = table.iloc[0].to_dict()
+    else:
+        row = run_scene(scene)
+    try:
+        kc = f"{scene.kappa_cri():.4f}"
+    except ValueError:
+        kc = "not covered by the static theory"
+    print(f"scene      {scene.label()}")
+    print(f"stopped    {row['stopped']}")
+    print(f"status     {row['status']}")
+    if row["status"] != "buckled":
+        why = row.get("onset_error") or "no onset detected before the run ended"
+        print(why if row["status"] != "forced" else f"{why} (t_c is no critical time)")
+        return 1
+    print(f"t_c        {row['t_c']:.4f} +- {row['uncertainty_t']:.4f} s")
+    print(
+        f"kappa3     {row['kappa3']:.4f} +- {row['uncertainty_kappa3']:.4f} 1/m "
+        f"(static kappa_cri = {kc})"
+    )
+    return 0
+
+
+def _sweep_scenes(args: argparse.Namespace) -> list[Scene]:
+    if args.preset:
+        if args.rates:
+            raise SystemExit("give either --preset or --rates, not both")
+        return [sc for name in args.preset for sc in preset(name)]
+    if not args.rates:
+        raise SystemExit("give --rates (e.g. 0.1,0.4,1.6 or geom:0.05:16:12) or --preset")
+    return [scene_from(args, a) for a in parse_rates(args.rates)]
+
+
+def _print_fit(rows: list[dict]) -> None:
+    """Fit eq (33) to each family of scenes (same everything but the rate), with each
+    family's own rod, axial load and static critical twist."""
+    families: dict[str, list[dict]] = {}
+    for r in rows:
+        if r["a"] is not None and r["kappa3"] is not None:
+            families.setdefault(r["family"], []).append(r)
+    if not families:
+        print('fit: no scene with a loading rate and a "buckled" onset to fit')
+    sweeps = []
+    for grp in families.values():
+        pairs = {(round(r["a"], 9), r["scene"].dt) for r in grp}
+        if len(pairs) == len({a for a, _ in pairs}):
+            sweeps.append(grp)  # each rate at one step (fixed, or following the rate: paced)
+        else:  # some rate at several steps: one sweep per step
+            by_dt: dict[float, list[dict]] = {}
+            for r in grp:
+                by_dt.setdefault(r["scene"].dt, []).append(r)
+            sweeps.extend(by_dt.values())
+    for grp in sweeps:
+        seen, pts = set(), []  # one record a rate (records differing only in t_end)
+        for r in grp:
+            if round(r["a"], 9) not in seen:
+                seen.add(round(r["a"], 9))
+                pts.append(r)
+        head = pts[0]
+        name = head["label"]
+        steps = sorted({r["scene"].dt for r in pts})
+        if len(steps) > 1:
+            name = re.sub(r"dt=\S+", f"dt={steps[0]:g}-{steps[-1]:g}", name)
+        if len(pts) == 1:
+            continue  # a single scene, not a rate sweep
+        if len(pts) < 4:
+            print(
+                f"fit {name}: {len(pts)} rate(s) with an onset; eq (33) needs at least 4 "
+                "(3 parameters with kappa_cri free, plus one) -- add rates to this sweep"
+            )
+            continue
+        a = [r["a"] for r in pts]
+        k = [r["kappa3"] for r in pts]
+        rod = head["rod"]
+        try:
+            kc = head["scene"].kappa_cri()
+            modes = (kc, None)
+        except ValueError as err:
+            print(f"fit {name}: kappa_cri fixed skipped ({err})")
+            modes = (None,)
+        for mode in modes:
+            try:
+                f = fit_power_law(a, k, rod, kappa_cri=mode, n_boot=500)
+            except ValueError as err:
+                print(f"fit {name}: not fitted ({err})")
+                continue
+            tag = "kappa_cri fixed" if mode is not None else "kappa_cri free "
+            print(
+                f"fit {name} {tag}: b = {f.b:.2f} +- {f.b_err:.2f}, "
+                f"sigma = {f.sigma:.4f} +- {f.sigma_err:.4f}, "
+                f"kappa_cri = {f.kappa_cri:.4f} +- {f.kappa_cri_err:.4f} "
+                f"(paper, Table 1 rod: b = {value('b'):.2f}, sigma = {value('sigma'):.4f})"
+            )
+
+
+def _fit_rows(table, scenes: list[Scene]) -> list[dict]:
+    rows = []
+    for (_, r), sc in zip(table.iterrows(), scenes, strict=True):
+        label = sc.label().split(" ", 1)[1] if sc.history is None else sc.label()  # drop a=
+        rows.append(
+            {
+                "a": sc.twist.rate,
+                "kappa3": r["kappa3"] if r["status"] == "buckled" else None,
+                "family": r["family"],
+                "rod": sc.rod,
+                "scene": sc,
+                "label": f"[{label}]",
+            }
+        )
+    return rows
+
+
+def _log(message: str) -> None:
+    from tqdm.auto import tqdm
+
+    tqdm.write(message, file=sys.stderr)
+
+
+def _sweep(args: argparse.Namespace) -> int:
+    scenes = _sweep_scenes(args)
+    executor, client, cluster = None, None, None
+    if args.dask_local < 0:
+        raise ValueError(f"--dask-local={args.dask_local} must be >= 1 workers (or 0: off)")
+    if args.scheduler or args.dask_local:
+        try:
+            from dask.distributed import Client, LocalCluster
+        except ImportError as err:
+            raise SystemExit(
+                "--scheduler/--dask-local need dask.distributed: pip install 'dyntorsion[parallel]'"
+            ) from err
+        if args.scheduler:
+            client = Client(args.scheduler)
+        else:
+            cluster = LocalCluster(n_workers=args.dask_local, threads_per_worker=1)
+            client = Client(cluster)
+        executor = client.get_executor()
+    try:
+        table = run_sweep(
+            scenes,
+            args.store,
+            executor=executor,
+            jobs=args.jobs,
+            on_stale=args.on_stale,
+            progress=not args.quiet,
+            log=None if args.quiet else _log,
+        )
+    finally:
+        if client is not None:
+            client.close()
+        if cluster is not None:
+            cluster.close()
+    cols = [
+        "a",
+        "kappa0",
+        "rod",
+        "seed",
+        "n_cells",
+        "dt",
+        "t_c",
+        "kappa3",
+        "uncertainty_kappa3",
+        "status",
+        "cached",
+    ]
+    with np.printoptions(precision=4):
+        print(table[cols].to_string(index=False, float_format=lambda v: f"{v:.5g}"))
+    _print_fit(_fit_rows(table, scenes))
+    return 0
+
+
+def _linear(args: argparse.Namespace) -> int:
+    from ..studies import linear_predictions as LS
+
+    preds = [p for name in args.preset for p in LS.preset(name)]
+    table = LS.predict(
+        preds,
+        args.store,
+        jobs=args.jobs,
+        on_stale=args.on_stale,
+        log=None if args.quiet else _log,
+    )
+    cols = [
+        "a",
+        "kappa0",
+        "seed",
+        "waves",
+        "spin",
+        "rotary_inertia",
+        "modes",
+        "t_ref",
+        "kappa3_ref",
+    ]
+    print(table[cols].to_string(index=False, float_format=lambda v: f"{v:.5g}"))
+    return 0
+
+
+def _fit(args: argparse.Namespace) -> int:
+    if args.preset:
+        scenes = preset(args.preset)
+        table = cached(args.preset, args.store)
+    else:
+        store = Store(args.store or default_store())
+        scenes = [Scene.from_params(rec["params"]) for rec in store.records(KIND)]
+        if not scenes:
+            raise ValueError(f"--store {args.store}: no {KIND} records to fit")
+        table = run_sweep(scenes, args.store, compute=False, on_stale="error", progress=False)
+    _print_fit(_fit_rows(table, scenes))
+    return 0
+
+
+def _linear_presets() -> list[str]:
+    from ..studies.linear_predictions import PRESETS as LINEAR
+
+    return list(LINEAR)
+
+
+def parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="dyntorsion", description=__doc__.splitlines()[0])
+    p.add_argument("--version", action="version", version=f"dyntorsion {__version__}")
+    p.add_argument(
+        "--debug", action="store_true", help="show the traceback of an error (anywhere on the line)"
+    )
+    sub = p.add_subparsers(dest="command", required=True)
+
+    b = sub.add_parser("buckle", help="one buckling scene: print t_c and kappa3")
+    b.add_argument(
+        "--a", type=float, default=None, help="loading rate [rad/(m s)] (ramp histories)"
+    )
+    add_scene_options(b, kappa0=0.0)
+    b.add_argument(
+        "--store", default=None, help="cache folder: read the scene from it, or compute and add it"
+    )
+    b.add_argument("--on-stale", choices=ON_STALE, default="recompute")
+    b.set_defaults(func=_buckle)
+
+    s = sub.add_parser("sweep", help="a sweep over loading rates (cached, resumable)")
+    s.add_argument(
+        "--preset",
+        action="append",
+        choices=sorted(PRESETS),
+        help="a named sweep (repeatable); see dyntorsion.studies.presets.PRESETS",
+    )
+    s.add_argument("--rates", default=None, help="'0.1,0.4,1.6' or 'geom:LO:HI:N'")
+    add_scene_options(s, kappa0=10.0)
+    s.add_argument(
+        "--store", default=None, help="cache folder (default: $DYNTORSION_DATA, else data/scenes)"
+    )
+    s.add_argument("--jobs", type=int, default=1, help="local worker processes")
+    s.add_argument(
+        "--dask-local",
+        type=int,
+        default=0,
+        metavar="N",
+        help="run on a dask.distributed LocalCluster of N workers",
+    )
+    s.add_argument(
+        "--scheduler", default=None, help="address of a running dask.distributed scheduler"
+    )
+    s.add_argument("--on-stale", choices=ON_STALE, default="recompute")
+    s.add_argument("--quiet", action="store_true", help="no progress bar or log")
+    s.set_defaults(func=_sweep)
+
+    lin = sub.add_parser(
+        "linear",
+        help="linear-stability predictions of the onset (dyntorsion.studies.linear_predictions; cached)",
+    )
+    lin.add_argument(
+        "--preset",
+        action="append",
+        required=True,
+        choices=sorted(_linear_presets()),
+        help="a named set of predictions (repeatable)",
+    )
+    lin.add_argument(
+        "--store", default=None, help="cache folder (default: $DYNTORSION_DATA, else data/scenes)"
+    )
+    lin.add_argument("--jobs", type=int, default=1, help="local worker processes")
+    lin.add_argument("--on-stale", choices=ON_STALE, default="recompute")
+    lin.add_argument("--quiet", action="store_true", help="no log")
+    lin.set_defaults(func=_linear)
+
+    f = sub.add_parser(
+        "fit", help="fit eq (33) to cached sweeps: a preset, or every rate sweep in a store"
+    )
+    f.add_argument("--preset", choices=sorted(PRESETS), default=None)
+    f.add_argument(
+        "--store", default=None, help="cache folder (default: $DYNTORSION_DATA, else data/scenes)"
+    )
+    f.set_defaults(func=_fit)
+    return p
+
+
+def _terminate(signum, frame) -> None:
+    raise SystemExit(128 + signum)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run a subcommand; a package error prints one line and a non-zero status
+    (``--debug``: the traceback instead)."""
+    argv = list(sys.argv[1:] if argv is None else argv)
+    debug = "--debug" in argv
+    args = parser().parse_args([a for a in argv if a != "--debug"])
+    main_thread = threading.current_thread() is threading.main_thread()
+    old = signal.signal(signal.SIGTERM, _terminate) if main_thread else None
+    try:
+        return args.func(args)
+    except KeyboardInterrupt:
+        if debug:
+            raise
+        print("dyntorsion: interrupted; finished results are kept in the store", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    except Exception as err:
+        if debug:
+            raise
+        line, status = describe(err)
+        print(f"dyntorsion: error: {line}", file=sys.stderr)
+        return status
+    finally:
+        if main_thread:
+            signal.signal(signal.SIGTERM, old)
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

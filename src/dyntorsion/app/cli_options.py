@@ -1,0 +1,226 @@
+"""Command-line options that describe a scene (rod, section, load, history, ends,
+seed, grid, scheme) and their translation into a :class:`~dyntorsion.buckling.scene.Scene`."""
+
+from __future__ import annotations
+
+import argparse
+from dataclasses import replace
+
+import numpy as np
+
+from ..buckling.loading import ENDS, AxialLoad, Polynomial, RampHold, Tabulated
+from ..buckling.scene import UNTIL, Scene
+from ..buckling.seed import Perturbation
+from ..model.rod import Rod
+from ..studies import fidelity
+from ..studies.fidelity import LEVELS
+from ..studies.pacing import STEPS, TOL, paced
+from ..studies.presets import PRESET_CONTROL
+
+
+def parse_numbers(text: str, n: int | None, what: str) -> list[float]:
+    """Comma-separated numbers of the option ``what`` (exactly ``n`` of them unless None)."""
+    try:
+        vals = [float(v) for v in text.split(",")]
+    except ValueError:
+        raise ValueError(f"{what}={text!r} must be comma-separated numbers") from None
+    if n is not None and len(vals) != n:
+        raise ValueError(f"{what}={text!r} must hold {n} numbers (got {len(vals)})")
+    return vals
+
+
+def level_type(name: str) -> str:
+    """``--fidelity``: a level of :data:`dyntorsion.studies.fidelity.LEVELS` (the old names refused)."""
+    try:
+        return fidelity.check_level(name)
+    except ValueError as err:
+        raise argparse.ArgumentTypeError(str(err)) from None
+
+
+def add_scene_options(p: argparse.ArgumentParser, kappa0: float) -> None:
+    """The rod, section, load, history, ends, seed, grid and scheme options of a scene
+    (``kappa0`` is the subcommand's default pretwist)."""
+    g = p.add_argument_group("rod (default: Table 1)")
+    g.add_argument("--rho", type=float, default=1500.0, help="density [kg/m^3] (Table 1: 1500)")
+    g.add_argument("--E", type=float, default=1.25e7, help="Young's modulus [Pa]")
+    g.add_argument("--nu", type=float, default=0.25, help="Poisson's ratio")
+    g.add_argument("--L", type=float, default=1.0, help="length [m]")
+    sec = g.add_mutually_exclusive_group()
+    sec.add_argument("--D", type=float, default=None, help="diameter of a circle [m] (1e-3)")
+    sec.add_argument(
+        "--ellipse", metavar="A,B", help="elliptic section: semi-axes along d1, d2 [m]"
+    )
+    sec.add_argument(
+        "--rectangle", metavar="W,H", help="rectangular section: width (d1), height (d2) [m]"
+    )
+    sec.add_argument(
+        "--properties",
+        metavar="B1,B2,C,RHOA,RHOI1,RHOI2,RHOI3,THICKNESS",
+        help="a rod given by its stiffnesses [N m^2], mass per length [kg/m], rotary inertias "
+        "[kg m] and contact thickness [m] (E, nu, rho are then unused)",
+    )
+    g = p.add_argument_group("loading and ends")
+    g.add_argument("--kappa0", type=float, default=kappa0, help="initial twist [1/m]")
+    g.add_argument(
+        "--history",
+        default="ramp",
+        help="end twist kappa3(0, t): 'ramp' (kappa0 + a t, the paper), 'ramp-hold:HOLD[:TAU]' "
+        "(ramp at --a rounded into a hold at HOLD 1/m over TAU s), 'poly:C0,C1,...' "
+        "(sum C_k t^k), 'table:FILE' (two columns t, kappa; t from 0)",
+    )
+    g.add_argument("--tension", type=float, default=0.0, help="axial end load [N], > 0 tension")
+    g.add_argument("--tension-rate", type=float, default=0.0, help="its rate [N/s]")
+    g.add_argument(
+        "--ends", choices=sorted(ENDS), default="clamped", help="end conditions (clamped: eq 30)"
+    )
+    g = p.add_argument_group("seed and grid")
+    g.add_argument(
+        "--seed",
+        type=float,
+        default=1e-8,
+        help="perturbation magnitude (N/m uniform, N for --seed-form point)",
+    )
+    g.add_argument("--seed-form", choices=("uniform", "point"), default="uniform")
+    g.add_argument("--seed-location", type=float, default=0.5, help="point seed position [m]")
+    g.add_argument(
+        "--fidelity",
+        type=level_type,
+        default=None,
+        help=f"grid preset ({', '.join(LEVELS)}; dyntorsion.studies.fidelity), its time step scaled to the rod; "
+        "overrides --n-cells/--dt/--lam-*",
+    )
+    g.add_argument("--n-cells", type=int, default=100, help="cells along the rod")
+    g.add_argument("--dt", type=float, default=0.005, help="time step [s]")
+    g.add_argument("--lam-s", type=float, default=-1.0, help="lambda_inf in space, [-1, 0]")
+    g.add_argument("--lam-t", type=float, default=-1.0, help="lambda_inf in time, [-1, 0]")
+    g.add_argument(
+        "--control",
+        action="store_true",
+        help="step-size control: retry a failed step with smaller ones and follow the rod to "
+        "self-contact (genalpha.StepControl; the presets always use it)",
+    )
+    g.add_argument(
+        "--paced",
+        type=int,
+        nargs="?",
+        const=STEPS,
+        default=None,
+        metavar="STEPS",
+        help=f"time step = the fast-estimated onset time / STEPS (default {STEPS}), Newton tol "
+        f"{TOL:g} (dyntorsion.studies.pacing; overrides the time step of --dt and --fidelity); ramps "
+        "at clamped ends without axial load",
+    )
+    g.add_argument(
+        "--until",
+        choices=UNTIL,
+        default="contact",
+        help="contact: follow the whip to self-contact (default); first-peak: end once "
+        "|u3(L)| has passed its first peak (the same onset, without the whip)",
+    )
+    g.add_argument(
+        "--t-end",
+        type=float,
+        default=None,
+        help="end time [s] (default for the ramp at clamped ends: 3x the paper's delay, eqs 33-34)",
+    )
+
+
+def rod_from(args: argparse.Namespace) -> Rod:
+    """The rod of the options: Table 1's by default, or a section or explicit properties."""
+    if args.properties:
+        B1, B2, C, rhoA, r1, r2, r3, t = parse_numbers(args.properties, 8, "--properties")
+        return Rod.from_properties(
+            L=args.L,
+            B1=B1,
+            B2=B2,
+            C=C,
+            mass_per_length=rhoA,
+            rotary_inertia=(r1, r2, r3),
+            thickness=t,
+        )
+    mat = dict(E=args.E, nu=args.nu, L=args.L, rho=args.rho)
+    if args.ellipse:
+        a, b = parse_numbers(args.ellipse, 2, "--ellipse")
+        return Rod.elliptic(a=a, b=b, **mat)
+    if args.rectangle:
+        w, h = parse_numbers(args.rectangle, 2, "--rectangle")
+        return Rod.rectangular(w=w, h=h, **mat)
+    return Rod(D=1e-3 if args.D is None else args.D, **mat)
+
+
+def history_from(args: argparse.Namespace, a: float | None) -> dict:
+    """Scene keywords for the end twist: a and kappa0 (the ramp) or a history."""
+    kind, _, rest = args.history.partition(":")
+    if kind == "ramp":
+        if a is None:
+            raise ValueError("--history ramp needs the loading rate --a")
+        return {"a": a, "kappa0": args.kappa0}
+    if kind == "ramp-hold":
+        if a is None:
+            raise ValueError("--history ramp-hold needs the loading rate --a")
+        vals = parse_numbers(rest, None, "--history ramp-hold:HOLD[:TAU]".replace(":TAU]", "]"))
+        if len(vals) not in (1, 2):
+            raise ValueError("--history ramp-hold:HOLD[,TAU] takes one or two numbers")
+        return {"history": RampHold(a, vals[0], args.kappa0, *vals[1:])}
+    if kind == "poly":
+        return {"history": Polynomial(tuple(parse_numbers(rest, None, "--history poly")))}
+    if kind == "table":
+        try:
+            t, k = np.loadtxt(rest, delimiter=None, unpack=True, ndmin=2)
+        except (OSError, ValueError) as err:
+            raise ValueError(
+                f"--history table:{rest}: cannot read two columns t, kappa ({err})"
+            ) from None
+        return {"history": Tabulated(tuple(t), tuple(k))}
+    raise ValueError(
+        f"--history={args.history!r}; allowed: ramp, ramp-hold:HOLD[,TAU], poly:C0,C1,..., table:FILE"
+    )
+
+
+def scene_from(args: argparse.Namespace, a: float | None) -> Scene:
+    """The :class:`~dyntorsion.buckling.scene.Scene` the options describe, at the loading rate ``a``
+    (the grid of ``--fidelity`` scaled to the rod; ``--control`` adds step-size control;
+    ``--paced`` sets the step by :func:`~dyntorsion.studies.pacing.paced`)."""
+    rod = rod_from(args)
+    seed = Perturbation(magnitude=args.seed, form=args.seed_form, location=args.seed_location)
+    grid = fidelity.get(
+        "buckling",
+        args.fidelity
+        or fidelity.Fidelity(args.n_cells, args.dt, lam_s=args.lam_s, lam_t=args.lam_t),
+        rod=rod,
+    )
+    kwargs = grid.simulate_kwargs()
+    if args.control:
+        kwargs["scheme"] = replace(kwargs["scheme"], control=PRESET_CONTROL)
+    scene = Scene(
+        rod=rod,
+        seed=seed,
+        t_end=args.t_end,
+        tension=AxialLoad(args.tension, args.tension_rate),
+        ends=args.ends,
+        until=args.until,
+        **history_from(args, a),
+        **kwargs,
+    )
+    return scene if args.paced is None else paced(scene, steps=args.paced)
+
+
+def parse_rates(text: str) -> list[float]:
+    """'0.1,0.4,1.6' or 'geom:0.05:16:12' (12 rates spaced logarithmically)."""
+    if text.startswith("geom:"):
+        parts = text[5:].split(":")
+        try:
+            lo, hi, n = float(parts[0]), float(parts[1]), int(parts[2])
+            if len(parts) != 3:
+                raise IndexError
+        except (IndexError, ValueError):
+            raise ValueError(
+                f"--rates {text!r}: write geom:LO:HI:N (e.g. geom:0.05:16:12)"
+            ) from None
+        if not (0 < lo < hi and n >= 2):
+            raise ValueError(f"--rates {text!r}: need 0 < LO < HI and N >= 2")
+        return [float(v) for v in np.geomspace(lo, hi, n)]
+    rates = parse_numbers(text, None, "--rates") if text.strip(", ") else []
+    if not rates:
+        raise ValueError(f"--rates {text!r} holds no rate (e.g. 0.1,0.4,1.6 or geom:0.05:16:12)")
+    return rates

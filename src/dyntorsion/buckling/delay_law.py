@@ -1,0 +1,225 @@
+"""The delay law (section 6, eqs 33-34): kappa3 = kappa_cri + (b / L) (a L / c)^sigma
+fitted to the critical twists of a rate sweep, with kappa_cri fixed at the static value
+of eq (32) (the paper's fit) or free (its extrapolation to a = 0).
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..model.rod import Rod
+from .statics import critical_twist
+
+__all__ = ["PowerLawFit", "fit_power_law"]
+
+
+@dataclass(frozen=True)
+class PowerLawFit:
+    """Least-squares fit of eq (33): kappa3 = kappa_cri + (b / L) (a L / c)^sigma.
+
+    ``*_err`` are standard errors from the fit covariance (0 for a fixed
+    kappa_cri); ``bootstrap`` holds (low, high) percentile intervals at
+    ``confidence`` from refits of ``n_boot`` resamples (pairs drawn with
+    replacement; ``n_boot_failed`` refits that did not converge are dropped).
+    """
+
+    b: float
+    sigma: float
+    kappa_cri: float
+    b_err: float
+    sigma_err: float
+    kappa_cri_err: float
+    kappa_cri_free: bool
+    covariance: np.ndarray
+    bootstrap: dict[str, tuple[float, float]]
+    confidence: float
+    n_boot: int
+    n_boot_failed: int
+    residual_rms: float
+    n_points: int
+    rod: Rod
+
+    def kappa3(self, a: float | np.ndarray, rod: Rod | None = None) -> float | np.ndarray:
+        """The fitted critical twist at loading rate ``a`` (L and c of ``rod``, default
+        the fitted rod's: eq 33 carries the density only through c)."""
+        rod = self.rod if rod is None else rod
+        return self.kappa_cri + self.b / rod.L * (np.asarray(a) * rod.L / rod.c) ** self.sigma
+
+    def time_to_buckle(self, a: float, kappa0: float = 0.0, rod: Rod | None = None) -> float:
+        """(kappa3(a) - kappa0) / a: the paper's 'time until buckling' (20.11 s and
+        25.45 s for Figs 8 and 9)."""
+        return float((self.kappa3(a, rod) - kappa0) / a)
+
+
+def _power_law(x: np.ndarray, kc: float, b_over_L: float, sigma: float) -> np.ndarray:
+    return kc + b_over_L * x**sigma
+
+
+def _numbers(name: str, values) -> np.ndarray:
+    try:
+        return np.asarray(values, dtype=float)
+    except (TypeError, ValueError) as err:
+        raise ValueError(f"{name} must be numbers ({err})") from None
+
+
+def _determined(a: np.ndarray, k: np.ndarray, kappa_cri: float | None, n_par: int) -> None:
+    """Refuse data that cannot determine eq (33), naming the reason."""
+    rates = np.unique(a)
+    if rates.size < n_par:
+        raise ValueError(
+            f"a holds {rates.size} distinct rate(s); fitting {n_par} parameters needs at least "
+            f"{n_par} (eq 33 is a law in the rate)"
+        )
+    if kappa_cri is None:
+        if np.ptp(k) == 0:
+            raise ValueError("kappa3 is the same at every rate: sigma and b are undetermined")
+        return
+    if not (
+        isinstance(kappa_cri, int | float | np.integer | np.floating) and math.isfinite(kappa_cri)
+    ):
+        raise ValueError(f"kappa_cri={kappa_cri!r} must be a finite number, 'static' or None")
+    below = k <= kappa_cri
+    if np.any(below):
+        raise ValueError(
+            f"{int(below.sum())} of {k.size} kappa3 value(s) lie at or below kappa_cri = "
+            f"{kappa_cri:.6g} (min {k.min():.6g}): eq (33) needs kappa3 > kappa_cri; fit only "
+            'onsets with status "buckled" (a forced onset precedes the critical twist)'
+        )
+
+
+def fit_power_law(
+    a: Sequence[float],
+    kappa3: Sequence[float],
+    rod: Rod | None = None,
+    *,
+    kappa_cri: float | str | None = "static",
+    uncertainty: Sequence[float] | None = None,
+    n_boot: int = 2000,
+    confidence: float = 0.95,
+    seed: int = 0,
+) -> PowerLawFit:
+    """Fit eq (33) to critical twists ``kappa3`` measured at loading rates ``a``.
+
+    ``kappa_cri="static"`` fixes kappa_cri at eq (32) for ``rod`` (the paper's
+    fit); a number fixes it there; ``None`` fits it too (the extrapolation to
+    a = 0 that the paper checks against eq 32).  Unweighted least squares in
+    kappa3, as the paper; ``uncertainty`` (one standard deviation per point)
+    weights the points instead.  ``seed`` fixes the bootstrap's resampling.
+    """
+    import scipy.optimize
+
+    rod = Rod.paper() if rod is None else rod
+    a, k = _numbers("a", a), _numbers("kappa3", kappa3)
+    if a.ndim != 1 or a.shape != k.shape:
+        raise ValueError(f"a and kappa3 must be 1-D of one length (got {a.shape}, {k.shape})")
+    if not (np.all(np.isfinite(a)) and np.all(np.isfinite(k))):
+        raise ValueError("a and kappa3 must be finite (drop scenes without an onset)")
+    if np.any(a <= 0):
+        raise ValueError(f"a must be > 0 (got min {a.min()!r})")
+    free = kappa_cri is None
+    if isinstance(kappa_cri, str):
+        if kappa_cri != "static":
+            raise ValueError(f"kappa_cri={kappa_cri!r}; allowed: 'static', a number, None")
+        kappa_cri = critical_twist(rod)
+    n_par = 3 if free else 2
+    if a.size < n_par + 1:
+        raise ValueError(
+            f"need at least {n_par + 1} points to fit {n_par} parameters (got {a.size})"
+        )
+    _determined(a, k, kappa_cri, n_par)
+    if not 0 < confidence < 1:
+        raise ValueError(f"confidence={confidence!r} must lie in (0, 1)")
+    if not isinstance(n_boot, int) or n_boot < 0:
+        raise ValueError(f"n_boot={n_boot!r} must be an integer >= 0")
+    w = None
+    if uncertainty is not None:
+        w = np.asarray(uncertainty, dtype=float)
+        if w.shape != a.shape or not np.all(w > 0):
+            raise ValueError("uncertainty must be one positive number per point")
+    x = a * rod.L / rod.c
+
+    def solve(xs: np.ndarray, ks: np.ndarray, ws: np.ndarray | None, quiet: bool = False):
+        kc0 = float(kappa_cri) if not free else float(ks.min()) - 0.1 * float(np.ptp(ks))
+        dk = np.maximum(ks - kc0, 1e-12 * max(1.0, abs(kc0)))
+        sig0, logb0 = np.polyfit(np.log(xs), np.log(dk), 1)
+        if free:
+            f, p0 = _power_law, [kc0, math.exp(logb0), sig0]
+        else:
+
+            def f(xx, bl, sg):
+                return _power_law(xx, kappa_cri, bl, sg)
+
+            p0 = [math.exp(logb0), sig0]
+        with np.errstate(all="ignore"), warnings.catch_warnings():
+            if quiet:
+                warnings.simplefilter("ignore", scipy.optimize.OptimizeWarning)
+            p, cov = scipy.optimize.curve_fit(
+                f, xs, ks, p0=p0, sigma=ws, absolute_sigma=ws is not None, maxfev=20000
+            )
+        return (p if free else np.r_[kappa_cri, p]), cov, f
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", scipy.optimize.OptimizeWarning)
+        try:
+            p, cov, f = solve(x, k, w)
+        except (RuntimeError, scipy.optimize.OptimizeWarning) as err:
+            raise ValueError(f"the data cannot determine eq (33): the fit failed ({err})") from None
+    if not (np.all(np.isfinite(p)) and np.all(np.isfinite(cov))):
+        raise ValueError(
+            "the data cannot determine eq (33): the fitted parameters or their covariance "
+            "are not finite (add rates, or fix kappa_cri)"
+        )
+    kc, bl, sg = (float(v) for v in p)
+    err = (
+        np.sqrt(np.clip(np.diag(cov), 0, None))
+        if np.all(np.isfinite(cov))
+        else np.full(n_par, np.nan)
+    )
+    if not free:
+        err = np.r_[0.0, err]
+    resid = k - _power_law(x, kc, bl, sg)
+
+    rng = np.random.default_rng(seed)
+    samples, failed = [], 0
+    for _ in range(n_boot):
+        idx = rng.integers(0, a.size, a.size)
+        if np.unique(x[idx]).size < n_par:
+            failed += 1
+            continue
+        try:
+            pb, _, _ = solve(x[idx], k[idx], None if w is None else w[idx], quiet=True)
+        except (RuntimeError, ValueError, np.linalg.LinAlgError):
+            failed += 1
+            continue
+        samples.append(pb)
+    lo, hi = 50 * (1 - confidence), 50 * (1 + confidence)
+    boot: dict[str, tuple[float, float]] = {}
+    if samples:
+        S = np.array(samples)
+        S[:, 1] *= rod.L
+        names = ("kappa_cri", "b", "sigma") if free else ("b", "sigma")
+        cols = (0, 1, 2) if free else (1, 2)
+        for name, c in zip(names, cols, strict=True):
+            boot[name] = (float(np.percentile(S[:, c], lo)), float(np.percentile(S[:, c], hi)))
+    return PowerLawFit(
+        b=bl * rod.L,
+        sigma=sg,
+        kappa_cri=kc,
+        b_err=float(err[1]) * rod.L,
+        sigma_err=float(err[2]),
+        kappa_cri_err=float(err[0]),
+        kappa_cri_free=free,
+        covariance=cov,
+        bootstrap=boot,
+        confidence=confidence,
+        n_boot=n_boot,
+        n_boot_failed=failed,
+        residual_rms=float(np.sqrt(np.mean(resid**2))),
+        n_points=int(a.size),
+        rod=rod,
+    )

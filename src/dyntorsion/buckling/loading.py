@@ -1,0 +1,280 @@
+"""What is done to the rod's ends: the end-twist history, the axial end load, and
+the end conditions (section 6, eq 30, and the sets a researcher extends it with).
+
+A scene is data: each object here is a frozen dataclass with ``params()`` (its
+canonical form, part of the cache key) and is evaluated on arrays of times.
+
+* Twist histories kappa3(0, t): :class:`Ramp` (the paper's kappa0 + a t),
+  :class:`Polynomial`, :class:`RampHold` (a smooth ramp-and-hold), :class:`Tabulated`,
+  :class:`Custom` (any named callable with its parameters).
+* :class:`AxialLoad`: the axial force n3(L, t) = T + T_rate t at the far end
+  (positive = tension); the initial state carries n3 = T(0) along the rod.
+* :class:`Ends`: which six fields each end prescribes.  :data:`ENDS` names the sets;
+  ``"clamped"`` is the paper's eq (30).  Ill-posed sets are refused on construction.
+  They live in :mod:`dyntorsion.model.ends` and are re-exported here.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import inspect
+import math
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ..model.ends import ENDS, EQ30, Ends, IllPosedEndsError, ends, ends_from_params
+
+__all__ = [
+    "History",
+    "Ramp",
+    "Polynomial",
+    "RampHold",
+    "Tabulated",
+    "Custom",
+    "AxialLoad",
+    "Ends",
+    "ENDS",
+    "EQ30",
+    "ends",
+    "IllPosedEndsError",
+    "history_from_params",
+    "ends_from_params",
+]
+
+
+def _finite(name: str, value: Any) -> float:
+    if isinstance(value, bool) or not isinstance(value, int | float | np.floating | np.integer):
+        raise TypeError(f"{name}={value!r} must be a real number")
+    x = float(value)
+    if not math.isfinite(x):
+        raise ValueError(f"{name}={value!r} must be finite")
+    return x
+
+
+# ================================================================= twist histories
+class History:
+    """An end-twist history kappa3(0, t) [1/m]: ``h(t)`` on an array of times."""
+
+    kind: str = ""
+
+    def __call__(self, t: np.ndarray) -> np.ndarray:
+        raise NotImplementedError
+
+    def params(self) -> dict[str, Any]:
+        raise NotImplementedError
+
+    @property
+    def rate(self) -> float | None:
+        """The constant loading rate a of a ramp (eq 33's a), None for other histories."""
+        return None
+
+    @property
+    def kappa0(self) -> float:
+        return float(self(np.zeros(1))[0])
+
+    def label(self) -> str:
+        return (
+            self.kind
+            + "("
+            + ", ".join(f"{k}={v}" for k, v in self.params().items() if k != "kind")
+            + ")"
+        )
+
+
+@dataclass(frozen=True)
+class Ramp(History):
+    """The paper's history: kappa3(0, t) = kappa0 + a t (eq 30)."""
+
+    a: float
+    kappa0: float = 0.0
+    kind = "ramp"
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "a", _finite("a", self.a))
+        object.__setattr__(self, "kappa0", _finite("kappa0", self.kappa0))
+
+    def __call__(self, t):
+        return self.kappa0 + self.a * np.asarray(t, dtype=float)
+
+    @property
+    def rate(self) -> float:
+        return self.a
+
+    def params(self) -> dict[str, Any]:
+        return {"kind": "ramp", "kappa0": self.kappa0, "a": self.a}
+
+
+@dataclass(frozen=True)
+class Polynomial(History):
+    """kappa3(0, t) = sum_k coefficients[k] t^k."""
+
+    coefficients: tuple[float, ...]
+    kind = "polynomial"
+
+    def __post_init__(self) -> None:
+        c = tuple(_finite(f"coefficients[{i}]", v) for i, v in enumerate(self.coefficients))
+        if not c:
+            raise ValueError("coefficients must hold at least one number")
+        object.__setattr__(self, "coefficients", c)
+
+    def __call__(self, t):
+        return np.polynomial.polynomial.polyval(np.asarray(t, dtype=float), self.coefficients)
+
+    def params(self) -> dict[str, Any]:
+        return {"kind": "polynomial", "coefficients": list(self.coefficients)}
+
+
+@dataclass(frozen=True)
+class RampHold(History):
+    """A ramp kappa0 + a t rounded smoothly into a hold at ``hold``:
+    h = hold + a tau (x - log(1 + e^x)), x = (kappa0 + a t - hold) / (a tau),
+    ``tau`` [s] the time over which the corner is rounded (C-infinity)."""
+
+    a: float
+    hold: float
+    kappa0: float = 0.0
+    tau: float = 0.5
+    kind = "ramp-hold"
+
+    def __post_init__(self) -> None:
+        for name in ("a", "hold", "kappa0", "tau"):
+            object.__setattr__(self, name, _finite(name, getattr(self, name)))
+        if self.a <= 0 or self.tau <= 0:
+            raise ValueError(f"ramp-hold needs a > 0 and tau > 0 (got a={self.a}, tau={self.tau})")
+        if self.hold <= self.kappa0:
+            raise ValueError(f"hold={self.hold} must exceed kappa0={self.kappa0}")
+
+    def __call__(self, t):
+        x = (self.kappa0 + self.a * np.asarray(t, dtype=float) - self.hold) / (self.a * self.tau)
+        return self.hold + self.a * self.tau * (x - np.logaddexp(0.0, x))
+
+    def params(self) -> dict[str, Any]:
+        return {
+            "kind": "ramp-hold",
+            "a": self.a,
+            "hold": self.hold,
+            "kappa0": self.kappa0,
+            "tau": self.tau,
+        }
+
+
+@dataclass(frozen=True)
+class Tabulated(History):
+    """kappa3(0, t) interpolated (monotone cubic, PCHIP) through the points (t, kappa);
+    constant beyond the last point."""
+
+    t: tuple[float, ...]
+    kappa: tuple[float, ...]
+    kind = "tabulated"
+
+    def __post_init__(self) -> None:
+        t = tuple(_finite(f"t[{i}]", v) for i, v in enumerate(self.t))
+        k = tuple(_finite(f"kappa[{i}]", v) for i, v in enumerate(self.kappa))
+        if len(t) != len(k) or len(t) < 2:
+            raise ValueError("t and kappa must hold the same number (>= 2) of points")
+        if t[0] != 0.0 or np.any(np.diff(t) <= 0):
+            raise ValueError("t must start at 0 and increase strictly")
+        object.__setattr__(self, "t", t)
+        object.__setattr__(self, "kappa", k)
+
+    def __call__(self, t):
+        from scipy.interpolate import PchipInterpolator
+
+        tt = np.clip(np.asarray(t, dtype=float), self.t[0], self.t[-1])
+        return PchipInterpolator(self.t, self.kappa)(tt)
+
+    def params(self) -> dict[str, Any]:
+        return {"kind": "tabulated", "t": list(self.t), "kappa": list(self.kappa)}
+
+
+@dataclass(frozen=True)
+class Custom(History):
+    """Any callable ``func(t, **parameters)`` (vectorised over t), under a ``name``.
+    The cache key holds the name, the parameters and a hash of the function's source,
+    so an edited function is not served another function's records."""
+
+    name: str
+    func: Callable[..., np.ndarray] = field(compare=False)
+    parameters: tuple[tuple[str, float], ...] = ()
+    kind = "custom"
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.name, str) or not self.name:
+            raise ValueError("a custom history needs a non-empty name")
+        if not callable(self.func):
+            raise TypeError(f"func={self.func!r} must be callable")
+        p = self.parameters.items() if isinstance(self.parameters, Mapping) else self.parameters
+        object.__setattr__(self, "parameters", tuple(sorted((str(k), _finite(k, v)) for k, v in p)))
+
+    def __call__(self, t):
+        out = np.asarray(
+            self.func(np.asarray(t, dtype=float), **dict(self.parameters)), dtype=float
+        )
+        return np.broadcast_to(out, np.shape(t)).astype(float)
+
+    def source_hash(self) -> str:
+        try:
+            src = inspect.getsource(self.func)
+        except (OSError, TypeError):
+            src = getattr(self.func, "__qualname__", repr(self.func))
+        return hashlib.sha256(src.encode()).hexdigest()[:16]
+
+    def params(self) -> dict[str, Any]:
+        return {
+            "kind": "custom",
+            "name": self.name,
+            "parameters": dict(self.parameters),
+            "source": self.source_hash(),
+        }
+
+
+def history_from_params(p: Mapping[str, Any]) -> History:
+    """The history of a cache key (its ``params()``); a custom history cannot be rebuilt
+    (its function is code, not data)."""
+    q = dict(p)
+    kind = q.pop("kind", None)
+    if kind == "ramp":
+        return Ramp(a=q["a"], kappa0=q["kappa0"])
+    if kind == "polynomial":
+        return Polynomial(tuple(q["coefficients"]))
+    if kind == "ramp-hold":
+        return RampHold(**q)
+    if kind == "tabulated":
+        return Tabulated(tuple(q["t"]), tuple(q["kappa"]))
+    if kind == "custom":
+        raise ValueError(
+            f"history {q.get('name')!r} is a custom function: rebuild its Scene in Python "
+            "with the same Custom(name, func, parameters)"
+        )
+    raise ValueError(
+        f"history kind={kind!r}; allowed: ramp, polynomial, ramp-hold, tabulated, custom"
+    )
+
+
+# ================================================================= axial load
+@dataclass(frozen=True)
+class AxialLoad:
+    """Axial force at the far end, n3(L, t) = T + T_rate t [N]; positive = tension.
+
+    The initial state carries n3 = T along the whole rod (the straight rod under an
+    axial force T is in equilibrium), so a constant load starts without a jolt."""
+
+    T: float = 0.0
+    T_rate: float = 0.0
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "T", _finite("tension T", self.T))
+        object.__setattr__(self, "T_rate", _finite("tension rate T_rate", self.T_rate))
+
+    def __call__(self, t):
+        return self.T + self.T_rate * np.asarray(t, dtype=float)
+
+    @property
+    def is_zero(self) -> bool:
+        return self.T == 0.0 and self.T_rate == 0.0
+
+    def params(self) -> dict[str, Any]:
+        return {"T": self.T, "T_rate": self.T_rate}

@@ -1,0 +1,206 @@
+"""The onset of buckling (section 6): the critical time t_c and twist kappa3 from a
+straight line fitted to the initial dramatic variation of u3(L, t) and extrapolated
+back to u3 = 0, with the uncertainty of that rule, and what a run's onset means
+(:func:`classify_onset`).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from ..model.rod import Rod
+    from .run import BucklingRun
+
+__all__ = [
+    "Onset",
+    "check_window",
+    "STATUSES",
+    "PEAK_FALL",
+    "reference_level",
+    "classify_onset",
+    "first_peak",
+    "detect_onset",
+]
+
+#: a running maximum of ``|u3(L, t)|`` is the first peak once U falls below this fraction
+#: of it (so the small torsional-wave ripples on the rise do not count as a peak)
+PEAK_FALL = 0.7
+
+
+def reference_level(rod: Rod) -> float:
+    """u_ref = L / T0 [m/s] (T0 = L^2 sqrt(rho A / B1) the bending time scale): the level of
+    ``|u3(L, t)|`` at which the rise to the onset starts, far above the prebuckling level
+    and far below the first peak (0.023 m/s for Table 1)."""
+    return rod.L / rod.T0
+
+
+@dataclass(frozen=True)
+class Onset:
+    """Critical time and twist from the linear fit of u3(L, t) (section 6)."""
+
+    t_c: float
+    kappa3: float
+    uncertainty_t: float
+    uncertainty_kappa3: float
+    slope: float
+    intercept: float
+    window: tuple[float, float]
+    variations: dict[tuple[float, float], float]
+    t_ref: float = math.nan
+    u_ref: float = math.nan
+
+
+def check_window(window, variations=()) -> None:
+    """Refuse an onset window (or a variation) that is not two finite fractions
+    0 < lo < hi < 1 of the first peak of ``|u3(L, t)|``."""
+    for name, w in (("window", window), *(("variations", v) for v in variations)):
+        try:
+            lo, hi = (float(v) for v in w)
+        except (TypeError, ValueError):
+            raise ValueError(f"{name}={w!r} must be a pair (lo, hi) with 0 < lo < hi < 1") from None
+        if not 0 < lo < hi < 1:
+            raise ValueError(f"{name}={tuple(w)!r} must satisfy 0 < lo < hi < 1")
+
+
+#: what an onset record says happened (:func:`classify_onset`)
+STATUSES = ("buckled", "forced", "no-onset", "failed")
+
+
+def classify_onset(run: BucklingRun, onset: Onset | None, kappa_cri: float | None) -> str:
+    """What the run shows: ``"buckled"`` (an onset after the end twist has passed the
+    static critical twist ``kappa_cri``), ``"forced"`` (an onset before t = 0 or before
+    ``|kappa3(0, t)|`` reaches kappa_cri: the seed bent the rod, not the instability),
+    ``"no-onset"`` (the run ended, at t_end or self-contact, without one) or ``"failed"``
+    (a Newton failure ended it without one).  With ``kappa_cri=None`` (no static theory
+    for the scene) an onset at t_c >= 0 counts as buckled."""
+    if onset is None:
+        return "failed" if run.stopped.startswith("failed") else "no-onset"
+    if onset.t_c < run.t[0]:
+        return "forced"
+    if kappa_cri is None:
+        return "buckled"
+    upto = np.abs(run.kappa3_left[run.t <= onset.t_c])
+    passed = max(float(upto.max(initial=0.0)), abs(float(run.end_twist(onset.t_c))))
+    return "buckled" if passed >= kappa_cri else "forced"
+
+
+def first_peak(U: np.ndarray, i_start: int) -> int:
+    """The sample of the first peak of ``U = |u3(L, t)|`` after ``i_start``: the running
+    maximum at the first later sample where U has fallen below :data:`PEAK_FALL` (0.7) of
+    it (so the small torsional-wave ripples on the rise do not count as a peak), or the
+    largest sample."""
+    running = np.maximum.accumulate(U[i_start:])
+    drop = np.nonzero(U[i_start:] < PEAK_FALL * running)[0]
+    end = i_start + (int(drop[0]) if drop.size else U.size - i_start)
+    return i_start + int(np.argmax(U[i_start:end]))
+
+
+def _after_long_steps(run: BucklingRun, t_first: float, what: str) -> None:
+    """The onset reads samples from t_first on: they must lie past the long steps of
+    ``Scheme(long_steps=...)``, which record only their own, sparse, levels."""
+    long = getattr(getattr(run, "run", None), "meta", {}).get("long_steps")
+    if long and long["steps"] and long["until"] > t_first:
+        raise ValueError(
+            f"the long steps lasted until t = {long['until']:.6g} s, past t = {t_first:.6g} s "
+            f"where {what}: lower LongSteps.limit so that the onset is read from samples at dt"
+        )
+
+
+def detect_onset(
+    run: BucklingRun,
+    window: tuple[float, float] = (0.1, 0.5),
+    variations: Sequence[tuple[float, float]] = ((0.05, 0.3), (0.2, 0.7)),
+    u_ref: float | None = None,
+) -> Onset:
+    """Fit a straight line to the initial dramatic variation of u3(L, t), extrapolate
+    to u3 = 0: t_c and the end twist kappa3 = kappa3(0, t_c) of the run's history
+    (kappa0 + a t_c for the paper's ramp).
+
+    Window rule (deterministic): ``U = |u3(L, t)|``.  The rise starts when U first
+    exceeds ``u_ref`` (default L / T0, T0 = L^2 sqrt(rho A / B1) the bending time
+    scale: 0.023 m/s for Table 1, far above the prebuckling level and far below
+    the first peak); its peak U_peak is the running maximum of U at the first
+    later sample where U has fallen below :data:`PEAK_FALL` (0.7) of that running
+    maximum (so the small torsional-wave ripples on the rise do not count as a peak).  The fit
+    uses the samples from the first time U exceeds ``window[0] * U_peak`` to the
+    first time it exceeds ``window[1] * U_peak``.  The same fit with each of
+    ``variations`` gives the method's uncertainty: the largest ``|t_c - t_c(variation)|``.
+
+    ``t_ref`` is the time at which U first reaches ``u_ref`` (linear interpolation
+    between samples): the level a linear theory can be compared with (see
+    :mod:`dyntorsion.beyond.linear_stability`), where ``t_c`` is an extrapolation from the
+    nonlinear rise.
+    """
+    check_window(window, variations)
+    t, u = np.asarray(run.t), np.asarray(run.u3_end)
+    U = np.abs(u)
+    if not np.any(U > 0):
+        raise ValueError("u3(L, t) is identically zero: the rod never left the straight state")
+    if u_ref is None:
+        u_ref = reference_level(run.rod)
+    above = np.nonzero(U >= u_ref)[0]
+    if above.size == 0:
+        if run.stopped.startswith("failed"):
+            advice = (
+                f"the run ended on a Newton failure at t = {run.t[-1]:.6g} s before buckling "
+                "(refine dt or change the Newton options; a longer t_end does not help)"
+            )
+        elif run.stopped != "t_end":
+            advice = f"the run stopped before buckling ({run.stopped})"
+        else:
+            advice = "the run ends before buckling; increase t_end"
+        raise ValueError(f"|u3(L, t)| never reaches u_ref = {u_ref:.3g} m/s: {advice}")
+    i_start = int(above[0])
+    _after_long_steps(run, t[max(i_start - 1, 0)], "|u3(L, t)| reaches u_ref")
+    if i_start == 0:
+        t_ref = float(t[0])
+    else:
+        u0, u1 = U[i_start - 1], U[i_start]
+        t_ref = float(t[i_start - 1] + (u_ref - u0) / (u1 - u0) * (t[i_start] - t[i_start - 1]))
+    i_peak = first_peak(U, i_start)
+    U_peak, sign = U[i_peak], np.sign(u[i_peak])
+
+    def fit(lo: float, hi: float):
+        if not 0 < lo < hi < 1:
+            raise ValueError(f"window=({lo}, {hi}) must satisfy 0 < lo < hi < 1")
+        head = U[: i_peak + 1]
+        i0 = int(np.argmax(head >= lo * U_peak))
+        i1 = int(np.argmax(head >= hi * U_peak))
+        if i1 - i0 < 2:
+            raise ValueError(
+                f"window=({lo}, {hi}) holds fewer than 3 samples: refine dt or widen the window"
+            )
+        _after_long_steps(run, t[i0], f"the fit window ({lo}, {hi}) starts")
+        slope, intercept = np.polyfit(t[i0 : i1 + 1], sign * U[i0 : i1 + 1], 1)
+        return -intercept / slope, slope * sign, intercept * sign
+
+    t_c, slope, intercept = fit(*window)
+    var = {tuple(v): fit(*v)[0] for v in variations}
+    unc = max((abs(v - t_c) for v in var.values()), default=0.0)
+    a = run.params.get("a")
+    if a is not None and run.history is None:
+        kappa3 = run.params["kappa0"] + a * t_c
+    else:
+        kappa3 = run.end_twist(t_c)
+    if a is not None:
+        unc_k = abs(a) * unc
+    else:
+        unc_k = max((abs(run.end_twist(v) - kappa3) for v in var.values()), default=0.0)
+    return Onset(
+        t_c=float(t_c),
+        kappa3=float(kappa3),
+        uncertainty_t=float(unc),
+        uncertainty_kappa3=float(unc_k),
+        slope=float(slope),
+        intercept=float(intercept),
+        window=tuple(window),
+        variations={k: float(v) for k, v in var.items()},
+        t_ref=t_ref,
+        u_ref=float(u_ref),
+    )

@@ -1,0 +1,258 @@
+"""Torsional buckling (section 6): the dynamic buckling scene (boundary conditions of
+eq 30, or any end set, twist history and axial load of :mod:`dyntorsion.buckling.loading`).
+The onset of buckling lives in :mod:`dyntorsion.buckling.onset`, the delay law (eqs 33-34) in
+:mod:`dyntorsion.buckling.delay_law` and the static critical twist (eqs 31-32) in
+:mod:`dyntorsion.buckling.statics`; all are re-exported here.
+"""
+
+from __future__ import annotations
+
+import warnings
+from collections.abc import Mapping, Sequence
+from dataclasses import asdict
+
+import numpy as np
+
+from ..genalpha import ConvergenceError, Newton, Scheme, integrate
+from ..genalpha.guard import check_time_grid, real
+from ..model.cosserat import Cosserat
+from ..model.ends import Ends
+from ..model.ends import ends as _ends
+from ..model.rod import Rod
+from .delay_law import PowerLawFit, fit_power_law
+from .loading import AxialLoad, History, Ramp
+from .onset import STATUSES, Onset, check_window, classify_onset, detect_onset
+from .postbuckling import diagnose
+from .run import BucklingRun
+from .seed import Perturbation
+from .statics import M_CRI_MP, critical_moment, critical_twist, critical_twist_numerical, m_cri
+from .stops import STRAIGHT, scene_stop
+
+__all__ = [
+    "M_CRI_MP",
+    "m_cri",
+    "critical_moment",
+    "critical_twist",
+    "critical_twist_numerical",
+    "Perturbation",
+    "BucklingRun",
+    "simulate",
+    "GridWarning",
+    "check_grid",
+    "Onset",
+    "detect_onset",
+    "check_window",
+    "classify_onset",
+    "STATUSES",
+    "PowerLawFit",
+    "fit_power_law",
+]
+
+
+class GridWarning(UserWarning):
+    """A time step far outside the range the buckling scene was tested on."""
+
+
+#: the buckling grids the accuracy ladder tested (Fig 8 and the fast scene): time step
+#: over the bending time T0, and Courant number c dt / ds of the torsional waves
+TESTED_DT_OVER_T0 = (0.00125 / 43.8178046004133, 0.02 / 43.8178046004133)
+TESTED_COURANT = (1.8, 462.0)
+
+
+def check_grid(rod: Rod, n_cells: int, dt: float) -> None:
+    """Warn (:class:`GridWarning`) when dt exceeds ten times the largest tested step, in
+    units of the rod's own bending time T0 or of its torsional transit per cell."""
+    ratio, courant = dt / rod.T0, rod.c * dt * n_cells / rod.L
+    if ratio > 10 * TESTED_DT_OVER_T0[1] or courant > 10 * TESTED_COURANT[1]:
+        warnings.warn(
+            f"dt={dt:.3g} s is {ratio:.3g} T0 (bending time {rod.T0:.3g} s) at Courant number "
+            f"{courant:.3g}: the buckling scene was tested up to {TESTED_DT_OVER_T0[1]:.3g} T0 "
+            f"and Courant {TESTED_COURANT[1]:g}; use dyntorsion.studies.fidelity.get('buckling', level, rod)",
+            GridWarning,
+            stacklevel=3,
+        )
+
+
+def _history(a: float | None, kappa0: float, history: History | None) -> History:
+    if history is None:
+        if a is None:
+            raise ValueError("a=None: give the loading rate a (the paper's ramp) or a history")
+        return Ramp(a=real("a", a, " [1/(m s)]"), kappa0=real("kappa0", kappa0, " [1/m]"))
+    if not isinstance(history, History):
+        raise TypeError(f"history={history!r} must be a dyntorsion.buckling.loading.History")
+    if a is not None or kappa0 != 0.0:
+        raise ValueError("give either a (and kappa0) or a history, not both")
+    return history
+
+
+def _load(tension: float | AxialLoad) -> AxialLoad:
+    return tension if isinstance(tension, AxialLoad) else AxialLoad(T=tension)
+
+
+def simulate(
+    rod: Rod | None = None,
+    *,
+    a: float | None = None,
+    kappa0: float = 0.0,
+    n_cells: int,
+    dt: float,
+    t_end: float,
+    history: History | None = None,
+    tension: float | AxialLoad = 0.0,
+    ends: str | Ends = "clamped",
+    perturbation: float | Perturbation = 1e-8,
+    scheme: Scheme = Scheme(),
+    newton: Newton = Newton(),
+    snapshots: Sequence[float] = (),
+    stop_at_contact: bool = True,
+    stop_after_first_peak: bool = False,
+    check_every: int | None = None,
+    progress: bool | None = None,
+    on_failure: str = "raise",
+    terms: Mapping[str, float] | None = None,
+    rotary_inertia_scale: float = 1.0,
+) -> BucklingRun:
+    """Run the buckling scene of section 6, or any extension of it.
+
+    Table 1 rod (or ``rod``, any section), end conditions ``ends`` (default
+    ``"clamped"``: eq 30; see :data:`dyntorsion.model.ends.ENDS`), end twist
+    kappa3(0, t) = kappa0 + a t (the paper) or ``history`` (a
+    :class:`~dyntorsion.buckling.loading.History`), axial end load ``tension`` [N] (a number or
+    an :class:`~dyntorsion.buckling.loading.AxialLoad`; positive = tension), initial state y = 0
+    except k3 = kappa3(0, 0) and n3 = T(0) (a straight rod pretwisted without stress in
+    bending, in equilibrium under the axial load), and a constant seed force
+    ``perturbation`` (N/m along the rod in d1, or a :class:`Perturbation`).  With no
+    seed (magnitude 0) the straight rod is an exact solution of the discrete equations
+    and the run stays straight to round-off.
+
+    The run ends at ``t_end`` or, with ``stop_at_contact``, at the first check
+    (every ``check_every`` steps, default about every 0.1 s of simulated time, or every
+    step with step-size control: between checks 0.1 s apart the whipping rod can pass
+    through itself unseen; checked every step, a pair of segments that crossed between two
+    levels counts as contact too)
+    at which two non-neighbouring parts of the centreline come closer than the
+    rod's thickness; ``result.stopped`` says which ("t_end" or "self-contact ...").
+    With ``stop_after_first_peak`` it ends, too, at the first check at which
+    ``|u3(L, t)|``, having reached u_ref = L / T0, has fallen below
+    :data:`~dyntorsion.buckling.onset.PEAK_FALL` (0.7) of its running maximum: the trace then
+    holds the first peak and the fall after it, all that
+    :func:`~dyntorsion.buckling.onset.detect_onset` and the rules of
+    :mod:`~dyntorsion.buckling.onset_rules` read (they give the onset of the full run), and the
+    whip after it is not computed.
+
+    Past the onset the rod whips round violently; a Newton failure there raises
+    :class:`~dyntorsion.buckling.postbuckling.PostBucklingError`, one in the first steps
+    :class:`~dyntorsion.buckling.postbuckling.GridTooCoarseError` (both are
+    :class:`~dyntorsion.genalpha.ConvergenceError`; ``on_failure="raise"``), or, with
+    ``on_failure="return"``, ends the run at the last completed step with
+    ``stopped = "failed: ..."`` (the traces up to it are what the onset needs).
+
+    ``terms`` and ``rotary_inertia_scale`` are passed to
+    :class:`~dyntorsion.model.cosserat.Cosserat`: switch single mechanisms off (e.g.
+    ``{"gyro": 0.0}``) or scale the bending rotary inertia.  A time step far outside
+    the tested range for this rod warns (:class:`GridWarning`).
+    """
+    if on_failure not in ("raise", "return"):
+        raise ValueError(f"on_failure={on_failure!r}; allowed: 'raise', 'return'")
+    rod = Rod.paper() if rod is None else rod
+    if not isinstance(rod, Rod):
+        raise TypeError(f"rod={rod!r} must be a dyntorsion.Rod")
+    check_time_grid(dt, t_end, 0.0, snapshots, check_every)
+    hist = _history(a, kappa0, history)
+    load = _load(tension)
+    end_set = _ends(ends)
+    if not isinstance(perturbation, Perturbation):
+        perturbation = Perturbation(magnitude=real("perturbation", perturbation, " [N/m]"))
+    model = Cosserat(rod, terms=dict(terms or {}), rotary_inertia_scale=rotary_inertia_scale)
+    system = model.system()
+    if not isinstance(n_cells, int | np.integer) or n_cells < 2:
+        raise ValueError(f"n_cells={n_cells!r} must be an integer >= 2")
+    n_cells = int(n_cells)
+    check_grid(rod, n_cells, dt)
+    s = np.linspace(0.0, rod.L, n_cells + 1)
+    y0 = np.zeros((n_cells + 1, 12))
+    y0[:, system.index("k3")] = hist(np.zeros(1))[0]
+    y0[:, system.index("n3")] = load(np.zeros(1))[0]
+    left, right = end_set.rows(system, hist, load)
+    q = model.external_force(perturbation.force(s, rod.L))
+
+    if check_every is None:
+        check_every = 1 if scheme.control is not None else max(1, int(round(0.1 / dt)))
+    stop = None
+    if stop_at_contact or stop_after_first_peak:
+        stop = scene_stop(
+            system, rod, n_cells, contact=stop_at_contact, first_peak=stop_after_first_peak,
+            every_level=check_every == 1,
+        )  # fmt: skip
+    try:
+        run = integrate(
+            system,
+            n_cells=n_cells,
+            length=rod.L,
+            dt=dt,
+            t_end=t_end,
+            y0=y0,
+            left=left,
+            right=right,
+            scheme=scheme,
+            source=(q, None),
+            record={
+                "u3_end": ("u3", -1),
+                "k3_left": ("k3", 0),
+                "k3_right": ("k3", -1),
+                "w3_left": ("w3", 0),
+                "w3_right": ("w3", -1),
+            },
+            snapshots=snapshots,
+            newton=newton,
+            stop=stop,
+            check_every=check_every if stop is not None else None,
+            # the contact test does nothing below STRAIGHT (the same gauge): the march
+            # skips it in long chunks (the first-peak test then starts at the first check
+            # past it: it can only stop later, never before the fall after the first peak)
+            stop_gate=(("k1", "k2"), STRAIGHT) if stop_at_contact else None,
+            progress=progress,
+        )
+    except ConvergenceError as raw:
+        u3 = raw.run["u3_end"] if raw.run is not None else np.zeros(0)
+        t_run = raw.run.t if raw.run is not None else np.zeros(0)
+        err = diagnose(raw, rod, n_cells, dt, u3, t_run)
+        if on_failure == "raise" or err.run is None:
+            raise err from None
+        run = err.run
+        run.stopped = f"failed: {err}"
+    t = run.t
+    w0 = run["w3_left"]
+    theta = np.concatenate([[0.0], np.cumsum(0.5 * np.diff(t) * (w0[1:] + w0[:-1]))])
+    params = {
+        "rod": rod.as_dict(),
+        "a": hist.rate,
+        "kappa0": hist.kappa0,
+        "history": hist.params(),
+        "load": load.params(),
+        "ends": end_set.params(),
+        "n_cells": n_cells,
+        "dt": dt,
+        "t_end": t_end,
+        "perturbation": asdict(perturbation),
+        "scheme": run.meta["scheme"],
+        "check_every": check_every,
+        "stop_after_first_peak": stop_after_first_peak,
+        "terms": dict(terms or {}),
+        "rotary_inertia_scale": rotary_inertia_scale,
+    }
+    return BucklingRun(
+        t=t,
+        u3_end=run["u3_end"],
+        kappa3_left=run["k3_left"],
+        kappa3_right=run["k3_right"],
+        omega3_left=w0,
+        omega3_right=run["w3_right"],
+        theta_left=theta,
+        run=run,
+        rod=rod,
+        params=params,
+        history=hist,
+        load=load,
+        ends=end_set,
+    )

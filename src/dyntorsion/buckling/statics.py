@@ -1,0 +1,327 @@
+"""Static stability of the straight twisted rod (section 6, eqs 31-32, and beyond).
+
+The critical twist kappa_cri is the smallest twist kappa3 at which the straight rod,
+twisted uniformly with twisting moment M = C kappa3 and loaded by an axial force T
+(positive = tension), has an adjacent equilibrium.  Three routes, each a check of the
+others:
+
+* closed forms (mpmath, 40 digits) for isotropic sections (B1 = B2 = B): the paper's
+  eq (31) (clamped ends, T = 0: tan(pi m) = pi m, M = 2 pi B m / L); Greenhill's
+  clamped determinant with tension (w = c1 + c2 s + c3 e^{l+ s} + c4 e^{l- s},
+  B l^2 - i M l - T = 0); the pinned formula M^2/(4 B^2) - T/B = (pi/L)^2 (axial torque);
+* the body-frame transfer matrix, for any B1, B2: the linearised Kirchhoff equations
+  (eq 6 in statics) about the twisted straight state have constant coefficients in the
+  body frame::
+
+      B1 k1' + (M - kappa B2) k2 - n2 = 0,   B2 k2' - (M - kappa B1) k1 + n1 = 0,
+      n1' = kappa n2 - T k2,                 n2' = -kappa n1 + T k1,
+
+  with k1 = phi1' - kappa phi2, k2 = phi2' + kappa phi1 (phi the small rotation of the
+  section) and the lateral position in body components q' = (phi2 + kappa q2,
+  -phi1 - kappa q1); the end conditions make an 8 x 8 matrix that is singular at the
+  critical twist;
+* Chebyshev collocation of the isotropic equation B w'''' - i M w''' - T w'' = 0
+  (:func:`critical_twist_numerical`), an eigenproblem for M.
+
+End conditions: ``"clamped"`` (eq 30 in statics: position and tangent held at both ends,
+the far end free to slide axially) and ``"pinned"`` (position held, free to tilt, the end
+moment axial: Greenhill's classical case, a static theory only; the dynamic scenes'
+pinned set applies a follower torque, which this theory does not cover).
+"""
+
+from __future__ import annotations
+
+import math
+from functools import lru_cache
+
+import mpmath
+import numpy as np
+import scipy.linalg
+import scipy.optimize
+
+from ..model.rod import Rod
+
+__all__ = [
+    "M_CRI_MP",
+    "m_cri",
+    "STATIC_ENDS",
+    "critical_moment",
+    "critical_twist",
+    "critical_twist_transfer",
+    "critical_twist_numerical",
+    "greenhill_clamped",
+    "greenhill_pinned",
+    "euler_load",
+]
+
+#: end conditions the static theory covers
+STATIC_ENDS = ("clamped", "pinned")
+
+
+def _m_cri(digits: int = 40) -> mpmath.mpf:
+    """Smallest nonzero root of tan(pi m) = pi m (between 1 and 3/2)."""
+    with mpmath.workdps(digits):
+        return mpmath.findroot(
+            lambda m: mpmath.sin(mpmath.pi * m) - mpmath.pi * m * mpmath.cos(mpmath.pi * m),
+            mpmath.mpf("1.43"),
+        )
+
+
+#: the nondimensional critical moment of eq (31), to 40 digits (mpmath)
+M_CRI_MP = _m_cri()
+m_cri = float(M_CRI_MP)
+
+
+def _check(rod: Rod, tension: float, ends: str) -> float:
+    if not isinstance(rod, Rod):
+        raise TypeError(f"rod={rod!r} must be a Rod")
+    if ends not in STATIC_ENDS:
+        raise ValueError(
+            f"ends={ends!r}: the static theory covers {STATIC_ENDS} only (the dynamic end sets "
+            "'clamped-free-lateral', 'clamped-free', 'pinned-follower' have no static critical "
+            "twist here: give the scene an explicit t_end)"
+        )
+    if isinstance(tension, bool) or not isinstance(tension, int | float | np.floating | np.integer):
+        raise TypeError(f"tension={tension!r} must be a real number [N]")
+    T = float(tension)
+    if not math.isfinite(T):
+        raise ValueError(f"tension={tension!r} must be finite")
+    if -T >= euler_load(rod, ends):
+        raise ValueError(
+            f"tension={T!r} N is a compression at or beyond the Euler load "
+            f"{euler_load(rod, ends):.6g} N ({ends} ends): the straight rod buckles without twist"
+        )
+    return T
+
+
+def euler_load(rod: Rod, ends: str = "clamped") -> float:
+    """The compressive load [N] at which the untwisted rod buckles: 4 pi^2 B/L^2 (clamped),
+    pi^2 B/L^2 (pinned), B = min(B1, B2)."""
+    factor = 4.0 if ends == "clamped" else 1.0
+    return factor * math.pi**2 * rod.B / rod.L**2
+
+
+def greenhill_pinned(B: float, L: float, tension: float = 0.0) -> float:
+    """Critical twisting moment of the isotropic pinned rod under an axial torque:
+    M^2/(4 B^2) - T/B = (pi/L)^2 (T > 0 tension), i.e. M = 2 B sqrt((pi/L)^2 + T/B)."""
+    with mpmath.workdps(40):
+        B_, L_, T_ = mpmath.mpf(B), mpmath.mpf(L), mpmath.mpf(tension)
+        return float(2 * B_ * mpmath.sqrt((mpmath.pi / L_) ** 2 + T_ / B_))
+
+
+def greenhill_clamped(B: float, L: float, tension: float = 0.0, digits: int = 40) -> float:
+    """Critical twisting moment of the isotropic clamped rod (Greenhill's determinant).
+
+    T = 0: eq (31), M = 2 pi B m_cri / L.  Otherwise the smallest M > 0 at which
+    det[w(0), w'(0), w(L), w'(L)] of w = c1 + c2 s + c3 e^{l+ s} + c4 e^{l- s},
+    l+- = (i M +- d)/(2B), d = sqrt(4 B T - M^2), vanishes.  The determinant times
+    e^{-i M L/(2B)}/d is real, so its first sign change brackets the root (mpmath)."""
+    if tension == 0.0:
+        return 2 * math.pi * B * m_cri / L
+    with mpmath.workdps(digits):
+        B_, L_, T_ = mpmath.mpf(B), mpmath.mpf(L), mpmath.mpf(tension)
+
+        def g(M):
+            d = mpmath.sqrt(4 * B_ * T_ - M**2 + 0j)
+            lp, lm = (1j * M + d) / (2 * B_), (1j * M - d) / (2 * B_)
+            ep, em = mpmath.exp(lp * L_), mpmath.exp(lm * L_)
+            A = mpmath.matrix(
+                [[1, 0, 1, 1], [0, 1, lp, lm], [1, L_, ep, em], [0, 1, lp * ep, lm * em]]
+            )
+            v = mpmath.det(A) * mpmath.exp(-1j * M * L_ / (2 * B_)) / d
+            return v.real + v.imag  # one of the two is zero to working precision
+
+        scale = B_ / L_
+        grid = [scale * mpmath.mpf(x) for x in np.linspace(0.05, 40.0, 800)]
+        prev = g(grid[0])
+        for lo, hi in zip(grid[:-1], grid[1:], strict=True):
+            cur = g(hi)
+            if mpmath.sign(cur) != mpmath.sign(prev):
+                root = mpmath.findroot(g, (lo, hi), solver="anderson")
+                return float(root)
+            prev = cur
+    raise ValueError(f"no critical moment found below 40 B/L (tension={tension})")
+
+
+# ---------------------------------------------------------------- transfer matrix
+def _system_matrix(b1: float, b2: float, m: float, kappa: float, t: float) -> np.ndarray:
+    """z' = A z for z = (phi1, phi2, phi1', phi2', n1, n2, q1, q2), nondimensional
+    (length L, stiffness B): b1, b2 = B1/B, B2/B; m = M L/B; kappa L; t = T L^2/B."""
+    A = np.zeros((8, 8))
+    A[0, 2] = A[1, 3] = 1.0
+    # k1 = phi1' - kappa phi2, k2 = phi2' + kappa phi1; phi1'' = k1' + kappa phi2'
+    # B1 k1' = n2 - (m - kappa b2) k2 ;  B2 k2' = (m - kappa b1) k1 - n1 ;  phi2'' = k2' - kappa phi1'
+    k1 = np.array([0.0, -kappa, 1.0, 0.0, 0, 0, 0, 0])
+    k2 = np.array([kappa, 0.0, 0.0, 1.0, 0, 0, 0, 0])
+    n1, n2 = np.eye(8)[4], np.eye(8)[5]
+    k1p = (n2 - (m - kappa * b2) * k2) / b1
+    k2p = ((m - kappa * b1) * k1 - n1) / b2
+    A[2] = k1p + kappa * np.eye(8)[3]
+    A[3] = k2p - kappa * np.eye(8)[2]
+    A[4] = kappa * n2 - t * k2
+    A[5] = -kappa * n1 + t * k1
+    A[6] = np.eye(8)[1] + kappa * np.eye(8)[7]
+    A[7] = -np.eye(8)[0] - kappa * np.eye(8)[6]
+    return A
+
+
+def _end_rows(ends: str, b1: float, b2: float, m: float, kappa: float) -> np.ndarray:
+    rows = np.zeros((4, 8))
+    rows[0, 6] = rows[1, 7] = 1.0  # q = 0: position held
+    if ends == "clamped":
+        rows[2, 0] = rows[3, 1] = 1.0  # phi1 = phi2 = 0: tangent held
+    else:  # pinned, axial torque: B1 k1 + M phi2 = 0, B2 k2 - M phi1 = 0
+        rows[2] = b1 * np.array([0, -kappa, 1, 0, 0, 0, 0, 0]) + m * np.eye(8)[1]
+        rows[3] = b2 * np.array([kappa, 0, 0, 1, 0, 0, 0, 0]) - m * np.eye(8)[0]
+    return rows
+
+
+def _end_matrix(rod: Rod, tension: float, ends: str, kappa_L: float) -> np.ndarray:
+    """The 8 x 8 matrix of the end conditions at s = 0 and s = L (z(L) = expm(A L) z(0))."""
+    B = rod.B
+    b1, b2 = rod.B1 / B, rod.B2 / B
+    m = rod.C * kappa_L / B
+    t = tension * rod.L**2 / B
+    rows = _end_rows(ends, b1, b2, m, kappa_L)
+    P = scipy.linalg.expm(_system_matrix(b1, b2, m, kappa_L, t))
+    return np.vstack([rows, rows @ P])
+
+
+def _singularity(rod: Rod, tension: float, ends: str, kappa_L: float) -> float:
+    """sigma_min / sigma_max of the end-condition matrix at twist kappa_L / L."""
+    s = np.linalg.svd(_end_matrix(rod, tension, ends, kappa_L), compute_uv=False)
+    return float(s[-1] / s[0])
+
+
+def critical_twist_transfer(rod: Rod, tension: float = 0.0, ends: str = "clamped") -> float:
+    """kappa_cri [1/m] of any section (B1, B2) by the body-frame transfer matrix (module
+    docstring): the first twist at which the end-condition matrix is singular, found as
+    the first local minimum of its smallest singular value that reaches zero (a grid
+    scan, then a golden-section search to 1e-14 relative)."""
+    T = _check(rod, tension, ends)
+    iso = greenhill_pinned if ends == "pinned" else greenhill_clamped
+    guess = iso(rod.B, rod.L, T) * rod.L / rod.C  # isotropic twist with the weaker B, times L
+    top = guess * 3.0 * max(rod.B1, rod.B2) / rod.B
+    grid = np.linspace(guess * 0.05, top, 1200)
+    vals = np.array([_singularity(rod, T, ends, k) for k in grid])
+    for i in range(1, grid.size - 1):
+        if vals[i] <= vals[i - 1] and vals[i] <= vals[i + 1]:
+            k, v = _golden(lambda k: _singularity(rod, T, ends, k), grid[i - 1], grid[i + 1])
+            if v < 1e-9:
+                return _lowest_below(rod, T, ends, grid[i - 1], k) / rod.L
+    raise ValueError(f"no critical twist found below {top / rod.L:.4g} 1/m")
+
+
+def _lowest_below(rod: Rod, T: float, ends: str, lo: float, k: float) -> float:
+    """A nearly isotropic section splits the double root of the isotropic rod into two
+    close simple roots, which one minimum of sigma_min may hold together: deflate the
+    determinant by the root k found and take a sign change below it, if there is one."""
+
+    def g(x: float) -> float:
+        return float(np.linalg.det(_end_matrix(rod, T, ends, x))) / (x - k)
+
+    hi = k * (1 - 1e-9)
+    if hi > lo and np.sign(g(lo)) != np.sign(g(hi)):
+        return float(scipy.optimize.brentq(g, lo, hi, xtol=1e-15 * k, rtol=1e-15))
+    return k
+
+
+def _golden(f, lo: float, hi: float, rtol: float = 1e-14) -> tuple[float, float]:
+    """Minimum of a unimodal f on [lo, hi] by golden-section search (a V-shaped minimum,
+    where parabolic steps stall at sqrt(eps))."""
+    g = (math.sqrt(5.0) - 1.0) / 2.0
+    a, b = lo, hi
+    c, d = b - g * (b - a), a + g * (b - a)
+    fc, fd = f(c), f(d)
+    while b - a > rtol * abs(b):
+        if fc < fd:
+            b, d, fd = d, c, fc
+            c = b - g * (b - a)
+            fc = f(c)
+        else:
+            a, c, fc = c, d, fd
+            d = a + g * (b - a)
+            fd = f(d)
+    return (c, fc) if fc < fd else (d, fd)
+
+
+# ---------------------------------------------------------------- the public answer
+@lru_cache(maxsize=256)
+def critical_twist(rod: Rod, tension: float = 0.0, ends: str = "clamped") -> float:
+    """kappa_cri = M_cri / C [1/m]: 11.2335 for Table 1 (eq 32).
+
+    Isotropic sections use the closed forms (eq 31 with T = 0; Greenhill's clamped
+    determinant or the pinned formula otherwise); B1 != B2 uses the body-frame transfer
+    matrix.  ``tension`` [N] is the axial load (positive = tension); ``ends`` is
+    ``"clamped"`` (eq 30) or ``"pinned"`` (axial torque).  Other end sets, and
+    compressions at or beyond the Euler load, raise :class:`ValueError`."""
+    T = _check(rod, tension, ends)
+    if not rod.isotropic:
+        return critical_twist_transfer(rod, T, ends)
+    return critical_moment(rod, T, ends) / rod.C
+
+
+def critical_moment(rod: Rod, tension: float = 0.0, ends: str = "clamped") -> float:
+    """M_cri [N m] of an isotropic rod: 2 pi E I1 m_cri / L (eq 31) for clamped ends without
+    load, Greenhill's closed forms otherwise (see :func:`critical_twist`)."""
+    T = _check(rod, tension, ends)
+    if not rod.isotropic:
+        return critical_twist(rod, T, ends) * rod.C
+    if ends == "pinned":
+        return greenhill_pinned(rod.B1, rod.L, T)
+    if T == 0.0 and rod.E is not None:
+        return 2 * math.pi * rod.E * rod.I1 * m_cri / rod.L  # eq (31) as written
+    return greenhill_clamped(rod.B1, rod.L, T)
+
+
+# ---------------------------------------------------------------- Chebyshev check
+def _cheb(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Chebyshev points on [-1, 1] (descending) and the differentiation matrix (Trefethen)."""
+    x = np.cos(np.pi * np.arange(n + 1) / n)
+    c = np.r_[2.0, np.ones(n - 1), 2.0] * (-1.0) ** np.arange(n + 1)
+    X = np.tile(x, (n + 1, 1)).T
+    dX = X - X.T
+    D = np.outer(c, 1.0 / c) / (dX + np.eye(n + 1))
+    D -= np.diag(D.sum(axis=1))
+    return x, D
+
+
+def critical_twist_numerical(
+    rod: Rod, n: int = 28, tension: float = 0.0, ends: str = "clamped"
+) -> float:
+    """Independent check of :func:`critical_twist` for isotropic rods: the smallest M at
+    which B w'''' - i M w''' - T w'' = 0 (w = x + i y the lateral displacement) has a
+    nontrivial solution, by Chebyshev collocation (a generalised eigenproblem in M).
+
+    Clamped: w = w' = 0 at both ends.  Pinned (axial torque): w = 0 and
+    i B w'' + M w' = 0 (the end moment along the fixed axis).  ``n`` + 1 points: the
+    truncation error is spectrally small by n = 20, while the round-off of the fourth
+    derivative matrix grows like n^8 eps, so the default n = 28 is near the best
+    (about 1e-11 clamped, 2e-10 pinned, relative to the closed forms)."""
+    T = _check(rod, tension, ends)
+    if not rod.isotropic:
+        raise ValueError(
+            "critical_twist_numerical covers isotropic sections (B1 = B2); for B1 != B2 "
+            "use critical_twist_transfer"
+        )
+    B = rod.B1
+    _, D = _cheb(n)
+    D = D * (-2.0 / rod.L)  # s = L (1 - x) / 2: node 0 is s = 0, node n is s = L
+    D2, D3, D4 = D @ D, D @ D @ D, D @ D @ D @ D
+    I = np.eye(n + 1)
+    A = (B * D4 - T * D2).astype(complex)
+    Bm = 1j * D3
+    rows = [0, n, 1, n - 1]  # replace two rows at each end by the boundary conditions
+    if ends == "clamped":
+        bc_a = [I[0], I[n], D[0], D[n]]
+        bc_b = [0 * I[0]] * 4
+    else:
+        bc_a = [I[0], I[n], 1j * B * D2[0], 1j * B * D2[n]]
+        bc_b = [0 * I[0], 0 * I[0], -D[0], -D[n]]
+    for r, a_row, b_row in zip(rows, bc_a, bc_b, strict=True):
+        A[r] = a_row
+        Bm[r] = b_row
+    vals = scipy.linalg.eigvals(A, Bm)
+    vals = vals[np.isfinite(vals)]
+    real = vals[(np.abs(vals.imag) < 1e-6 * np.abs(vals)) & (np.abs(vals.real) > 0)]
+    return float(np.min(np.abs(real.real))) / rod.C

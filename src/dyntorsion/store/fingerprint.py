@@ -1,0 +1,234 @@
+"""Code fingerprints of cached records: which code computed a number.
+
+A record of each kind carries the fingerprint of the code its computation can reach
+from its entry points (:data:`KIND_ROOTS`): :func:`reachable` walks the package's own
+definitions from those roots (names, attribute chains, module-level assignments, the
+Python source of compiled kernels), and :func:`fingerprint_of` hashes their syntax
+trees with docstrings and comments removed and imports sorted -- documentation edits,
+formatting and import order leave records current; an edit of any function on the path
+makes them stale.  The fingerprint does not depend on where a definition lives: each is
+named by its qualified name within its module (a function moved to another module, or a
+module moved to another folder, keeps its records current), and import statements are left
+out (the definitions they bring in are followed and hashed themselves).
+
+The store knows no physics: the roots of each record kind are registered by the layer that
+computes them (:func:`register_kind`, called in :mod:`dyntorsion.studies`).
+"""
+
+from __future__ import annotations
+
+import ast
+import hashlib
+import importlib
+import inspect
+import textwrap
+from collections.abc import Mapping
+from functools import cache
+from typing import Any
+
+__all__ = [
+    "KIND_ROOTS",
+    "register_kind",
+    "reachable",
+    "code_fingerprint",
+    "fingerprint_of",
+    "code_of",
+]
+
+#: where the computation of each record kind starts (``module:object`` or a whole
+#: ``module``), registered by the layer that computes it: its fingerprint covers every
+#: function, class and module-level definition of the package reachable from these
+KIND_ROOTS: dict[str, tuple[str, ...]] = {}
+
+
+def register_kind(kind: str, roots: tuple[str, ...]) -> None:
+    """Declare where the computation of records of ``kind`` starts."""
+    if not roots or not all(isinstance(r, str) and r for r in roots):
+        raise ValueError(f"roots={roots!r} must be a non-empty tuple of 'module[:object]' strings")
+    KIND_ROOTS[kind] = tuple(roots)
+
+
+PACKAGE = "dyntorsion"
+
+
+def _strip_docstrings(tree: ast.AST) -> ast.AST:
+    for node in ast.walk(tree):
+        body = getattr(node, "body", None)
+        if (
+            isinstance(body, list)
+            and body
+            and isinstance(body[0], ast.Expr)
+            and isinstance(body[0].value, ast.Constant)
+            and isinstance(body[0].value.value, str)
+        ):
+            node.body = body[1:] or [ast.Pass()]
+    return tree
+
+
+class _NoImports(ast.NodeTransformer):
+    def visit_Import(self, node: ast.AST) -> None:
+        return None
+
+    visit_ImportFrom = visit_Import
+
+
+def _tree(source: str) -> ast.Module:
+    """Syntax tree without docstrings and imports: where a name comes from is no change
+    (what it is, is hashed on its own)."""
+    tree = _NoImports().visit(_strip_docstrings(ast.parse(textwrap.dedent(source))))
+    for node in ast.walk(tree):  # a body left empty by the removal stays valid
+        body = getattr(node, "body", None)
+        if isinstance(body, list) and not body:
+            node.body = [ast.Pass()]
+    return tree
+
+
+def _source_digest(target: str) -> str:
+    """Digest of one ``module`` or ``module:object`` alone (docstrings, comments and
+    import order do not count)."""
+    module_name, _, attr = target.partition(":")
+    obj = importlib.import_module(module_name)
+    if attr:
+        obj = getattr(obj, attr)
+    return hashlib.sha256(ast.dump(_tree(inspect.getsource(obj))).encode()).hexdigest()
+
+
+def _unwrap(obj: Any) -> Any:
+    """The Python function behind a compiled (numba) or wrapped one."""
+    for attr in ("py_func", "__wrapped__", "__func__"):
+        while hasattr(obj, attr):
+            obj = getattr(obj, attr)
+    return obj
+
+
+def _ours(obj: Any) -> bool:
+    name = getattr(obj, "__name__", "") if inspect.ismodule(obj) else getattr(obj, "__module__", "")
+    return isinstance(name, str) and (name == PACKAGE or name.startswith(PACKAGE + "."))
+
+
+def _qualname(obj: Any) -> str:
+    if inspect.ismodule(obj):
+        return obj.__name__
+    return f"{obj.__module__}:{obj.__qualname__}"
+
+
+def _assignment(module: Any, name: str) -> str | None:
+    """Source of the module-level statement(s) that bind ``name`` in ``module``."""
+    tree = _module_tree(module.__name__)
+    found = []
+    for node in tree.body:
+        targets = []
+        if isinstance(node, ast.Assign):
+            targets = node.targets
+        elif isinstance(node, ast.AnnAssign | ast.AugAssign):
+            targets = [node.target]
+        names = {n.id for t in targets for n in ast.walk(t) if isinstance(n, ast.Name)}
+        if name in names:
+            found.append(ast.unparse(node))
+    return "\n".join(found) or None
+
+
+@cache
+def _module_tree(name: str) -> ast.Module:
+    return ast.parse(inspect.getsource(importlib.import_module(name)))
+
+
+def _resolve(node: ast.AST, namespace: Mapping[str, Any]) -> Any:
+    if isinstance(node, ast.Name):
+        return namespace.get(node.id, _MISSING)
+    if isinstance(node, ast.Attribute):
+        base = _resolve(node.value, namespace)
+        if base is _MISSING:
+            return _MISSING
+        try:
+            return inspect.getattr_static(base, node.attr)
+        except AttributeError:
+            return _MISSING
+    return _MISSING
+
+
+_MISSING = object()
+
+
+def reachable(roots: tuple[str, ...], source=inspect.getsource) -> dict[str, str]:
+    """Every definition of the package that the code of ``roots`` can reach, each with
+    its source (``qualified name -> source``): functions, classes (with their methods),
+    compiled kernels (their Python source) and module-level assignments, following
+    names and attribute chains through the modules' namespaces."""
+    todo: list[Any] = []
+    for target in roots:
+        module_name, _, attr = target.partition(":")
+        obj = importlib.import_module(module_name)
+        todo.append(getattr(obj, attr) if attr else obj)
+    seen: dict[str, str] = {}
+    while todo:
+        obj = _unwrap(todo.pop())
+        if isinstance(obj, tuple):  # a module-level assignment: (module, name)
+            module, name = obj
+            key_ = f"{module.__name__}:{name}="
+            if key_ in seen:
+                continue
+            text = _assignment(module, name)
+            if text is None:
+                continue
+            seen[key_] = text
+            namespace = vars(module)
+        else:
+            if isinstance(obj, property):
+                obj = obj.fget
+            if not (inspect.ismodule(obj) or inspect.isclass(obj) or inspect.isfunction(obj)):
+                continue
+            if not _ours(obj):
+                continue
+            key_ = _qualname(obj)
+            if key_ in seen:
+                continue
+            seen[key_] = text = source(obj)
+            module = obj if inspect.ismodule(obj) else importlib.import_module(obj.__module__)
+            namespace = vars(module)
+        for node in ast.walk(ast.parse(textwrap.dedent(text))):
+            if not isinstance(node, ast.Name | ast.Attribute):
+                continue
+            found = _resolve(node, namespace)
+            if found is _MISSING:
+                continue
+            found = _unwrap(found)
+            if inspect.isfunction(found) or inspect.isclass(found) or isinstance(found, property):
+                todo.append(found)
+            elif inspect.ismodule(found):
+                continue  # a module is followed only through the attributes used
+            elif isinstance(node, ast.Name) and node.id in namespace:
+                todo.append((module, node.id))
+    return seen
+
+
+@cache
+def code_fingerprint(roots: tuple[str, ...]) -> str:
+    """Hash of the code that computes cached results: the syntax trees of everything
+    :func:`reachable` from ``roots``, with docstrings and comments removed and imports
+    sorted, so documentation edits, formatting and import sorting do not invalidate
+    data, while an edit of any function on the path does."""
+    return fingerprint_of(reachable(roots))
+
+
+def _local_name(name: str) -> str:
+    """``package.module:qualname`` -> ``qualname``; a whole module -> its last component."""
+    module, sep, qual = name.partition(":")
+    return qual if sep else module.rsplit(".", 1)[-1]
+
+
+def fingerprint_of(sources: Mapping[str, str]) -> str:
+    """Combine the sources of :func:`reachable` into the 16-digit fingerprint (each named
+    by :func:`_local_name`, so that moving a definition between modules changes nothing)."""
+    entries = sorted(
+        f"{_local_name(name)}={hashlib.sha256(ast.dump(_tree(text)).encode()).hexdigest()};"
+        for name, text in sources.items()
+    )
+    return hashlib.sha256("".join(entries).encode()).hexdigest()[:16]
+
+
+def code_of(kind: str | None) -> str:
+    """The code fingerprint that records of ``kind`` carry (see :data:`KIND_ROOTS`); a kind
+    nobody registered reaches no code of the package, so its records are checked by the
+    package version and their content hash alone."""
+    return code_fingerprint(KIND_ROOTS.get(kind, ()))

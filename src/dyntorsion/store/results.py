@@ -1,0 +1,241 @@
+"""Cached results in ``data/``, with provenance.
+
+Every expensive scene is stored as one JSON record, named by the hash of its
+parameters::
+
+    {"schema": 1, "kind": ..., "key": ..., "params": {...}, "result": {...},
+     "provenance": {"package_version", "code", "python", "numpy", "numba",
+                    "created", "wall_time_s"},
+     "hash": sha256 of the canonical JSON of {kind, params, result}}
+
+``params`` holds everything the numbers depend on (rod, loading, seed, grid,
+scheme, Newton options, onset window); ``provenance.code`` is a fingerprint of
+the code that computes them (:func:`~dyntorsion.store.fingerprint.code_fingerprint`).  Records are written
+atomically (a temporary file in the same folder, then ``os.replace``), so a
+killed run leaves either the whole record or none.
+
+Reading checks, in order: the content hash (a damaged or hand-edited record is
+refused), the parameters (they must equal the request), and then the package
+version and the code fingerprint.  A record that fails the last check is
+*stale*: :meth:`Store.load` recomputes it (``on_stale="recompute"``, it returns
+None), refuses it (``"error"``, :class:`StaleResultError` says what changed), or
+takes it anyway (``"accept"``, for reading old data on purpose).
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import hashlib
+import json
+import math
+import os
+import platform
+import tempfile
+from collections.abc import Iterator, Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from .fingerprint import code_of
+from .leases import TMP_SUFFIX, Lease, _owner, acquire_lease, clean_leftovers
+
+SCHEMA = 1
+
+
+ON_STALE = ("recompute", "error", "accept")
+
+
+class StaleResultError(RuntimeError):
+    """A cached record no longer matches the code or the request."""
+
+
+class CorruptResultError(RuntimeError):
+    """A cached record whose content hash does not match its content."""
+
+
+def _plain(obj: Any, where: str = "") -> Any:
+    """JSON-ready copy: tuples to lists, numpy scalars and arrays to Python; a
+    non-finite number is refused with the entry that holds it."""
+    if isinstance(obj, Mapping):
+        return {str(k): _plain(v, f"{where}.{k}" if where else str(k)) for k, v in obj.items()}
+    if isinstance(obj, list | tuple):
+        return [_plain(v, f"{where}[{i}]") for i, v in enumerate(obj)]
+    if hasattr(obj, "tolist"):
+        return _plain(obj.tolist(), where)
+    if isinstance(obj, float) and not math.isfinite(obj):
+        raise ValueError(f"cannot store the non-finite number {obj!r} (entry {where or '-'})")
+    return obj
+
+
+def canonical(obj: Any) -> str:
+    """The canonical JSON text of ``obj`` (sorted keys, no spaces, floats by repr)."""
+    return json.dumps(_plain(obj), sort_keys=True, separators=(",", ":"), allow_nan=False)
+
+
+def digest(obj: Any) -> str:
+    return hashlib.sha256(canonical(obj).encode()).hexdigest()
+
+
+def key(kind: str, params: Mapping[str, Any]) -> str:
+    """File name stem of a record: 20 hex digits of the hash of (kind, params)."""
+    return digest({"kind": kind, "params": params})[:20]
+
+
+def provenance(wall_time: float | None = None, kind: str | None = None) -> dict[str, Any]:
+    import numba
+    import numpy
+
+    from .._version import __version__
+
+    return {
+        "package_version": __version__,
+        "code": code_of(kind),
+        "python": platform.python_version(),
+        "numpy": numpy.__version__,
+        "numba": numba.__version__,
+        "created": _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"),
+        "wall_time_s": wall_time,
+    }
+
+
+def write_json(path: str | os.PathLike[str], obj: Any) -> Path:
+    """Write ``obj`` as JSON atomically: a temporary file in the same folder, flushed
+    to disk, then renamed over ``path``; on any failure the temporary is removed and
+    ``path`` is untouched."""
+    target = Path(path)
+    target.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(
+        dir=target.parent, prefix=f".{target.stem}.{_owner()}.", suffix=TMP_SUFFIX
+    )
+    try:
+        with os.fdopen(fd, "w") as fh:
+            json.dump(obj, fh, indent=1, sort_keys=True, allow_nan=False)
+            fh.write("\n")
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.chmod(tmp, 0o644)
+        os.replace(tmp, target)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+    return target
+
+
+# ----------------------------------------------------------------- the store
+@dataclass(frozen=True)
+class Store:
+    """A folder of records (default ``data/scenes`` of the source tree)."""
+
+    root: Path
+
+    def __init__(self, root: str | os.PathLike[str]) -> None:
+        object.__setattr__(self, "root", Path(root))
+
+    def path(self, kind: str, params: Mapping[str, Any]) -> Path:
+        return self.root / f"{kind}-{key(kind, params)}.json"
+
+    def lease(self, kind: str, params: Mapping[str, Any]) -> Lease | None:
+        """Claim the record (:func:`acquire_lease`); None while another process holds it."""
+        return acquire_lease(self.path(kind, params))
+
+    def clean(self) -> list[Path]:
+        """Remove what killed writers left behind (:func:`clean_leftovers`)."""
+        return clean_leftovers(self.root) if self.root.is_dir() else []
+
+    def save(
+        self,
+        kind: str,
+        params: Mapping[str, Any],
+        result: Mapping[str, Any],
+        wall_time: float | None = None,
+    ) -> Path:
+        """Write one record atomically; returns its path."""
+        try:
+            record = {
+                "schema": SCHEMA,
+                "kind": kind,
+                "key": key(kind, params),
+                "params": _plain(params, "params"),
+                "result": _plain(result, "result"),
+                "provenance": provenance(wall_time, kind),
+            }
+        except ValueError as err:
+            try:
+                where = str(self.path(kind, params))
+            except ValueError:
+                where = f"a {kind} record in {self.root}"
+            raise ValueError(f"{where} not written: {err}") from None
+        record["hash"] = digest({"kind": kind, "params": params, "result": result})
+        target = self.path(kind, params)
+        try:
+            write_json(target, record)
+        except OSError as err:
+            raise OSError(
+                err.errno,
+                f"cannot write the record ({err.strerror or err})",
+                str(target),
+            ) from err
+        return target
+
+    def read(self, path: str | os.PathLike[str]) -> dict[str, Any]:
+        """One record, its content hash checked (:class:`CorruptResultError`)."""
+        path = Path(path)
+        try:
+            record = json.loads(path.read_text())
+        except (OSError, json.JSONDecodeError) as err:
+            raise CorruptResultError(f"{path}: unreadable record ({err})") from err
+        expected = digest({k: record.get(k) for k in ("kind", "params", "result")})
+        if record.get("hash") != expected:
+            raise CorruptResultError(
+                f"{path}: content hash does not match its content "
+                "(damaged or edited by hand); delete it to recompute"
+            )
+        return record
+
+    def staleness(self, record: Mapping[str, Any]) -> str | None:
+        """Why a record is stale, or None if it matches the current code."""
+        from .._version import __version__
+
+        prov = record.get("provenance", {})
+        reasons = []
+        if record.get("schema") != SCHEMA:
+            reasons.append(f"record schema {record.get('schema')} != {SCHEMA}")
+        if prov.get("package_version") != __version__:
+            reasons.append(f"package version {prov.get('package_version')} != {__version__}")
+        code = code_of(record.get("kind"))
+        if prov.get("code") != code:
+            reasons.append(
+                f"code fingerprint {prov.get('code')} != {code} "
+                "(the numerical code changed since it was computed)"
+            )
+        return "; ".join(reasons) or None
+
+    def load(
+        self, kind: str, params: Mapping[str, Any], on_stale: str = "recompute"
+    ) -> dict[str, Any] | None:
+        """The record for (kind, params), or None if it must be computed."""
+        if on_stale not in ON_STALE:
+            raise ValueError(f"on_stale={on_stale!r}; allowed: {', '.join(ON_STALE)}")
+        path = self.path(kind, params)
+        if not path.exists():
+            return None
+        record = self.read(path)
+        if canonical(record["params"]) != canonical(params):
+            raise StaleResultError(
+                f"{path}: its parameters differ from the request (hash collision or a renamed file)"
+            )
+        why = self.staleness(record)
+        if why is None or on_stale == "accept":
+            return record
+        if on_stale == "error":
+            raise StaleResultError(
+                f"{path} is stale: {why}. Recompute it with `make data` "
+                "(or the sweep command with --on-stale recompute)"
+            )
+        return None
+
+    def records(self, kind: str | None = None) -> Iterator[dict[str, Any]]:
+        """Every record in the folder (of one kind), hashes checked."""
+        pattern = f"{kind}-*.json" if kind else "*.json"
+        for path in sorted(self.root.glob(pattern)):
+            yield self.read(path)

@@ -1,0 +1,27 @@
+"""The record kinds the studies write, and where the computation of each starts (the roots
+of its code fingerprint, :func:`dyntorsion.store.fingerprint.register_kind`)."""
+
+from __future__ import annotations
+
+from ..store.fingerprint import register_kind
+
+__all__ = ["KINDS"]
+
+#: the ends and loads a scene is keyed by are part of every scene's computation
+_SCENE = (
+    "dyntorsion.buckling.scene:Scene",
+    "dyntorsion.buckling.loading",
+    "dyntorsion.model.ends",
+)
+KINDS: dict[str, tuple[str, ...]] = {
+    "buckling-onset": ("dyntorsion.buckling.scene:run_scene", *_SCENE),
+    "linear-onset": (
+        "dyntorsion.beyond.predictions:run_prediction",
+        "dyntorsion.beyond.predictions:Prediction",
+        *_SCENE,
+    ),
+    "onset-rules": ("dyntorsion.buckling.onset_rules:run_rules", *_SCENE),
+    "onset-trace": ("dyntorsion.studies.traces:compare", *_SCENE),
+}
+for _kind, _roots in KINDS.items():
+    register_kind(_kind, _roots)

@@ -1,0 +1,169 @@
+"""The named sweeps (section 6): the Fig 10 rate sweeps, the direct runs of Figs 8 and 9
+the fitted law is checked against, the accuracy ladders and the studies beyond the paper.
+``make data`` computes them all; :func:`cached` reads one back, computing nothing."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable
+from dataclasses import replace
+from pathlib import Path
+from typing import Any
+
+import pandas as pd
+
+from ..buckling.scene import Scene
+from ..buckling.seed import Perturbation
+from ..buckling.statics import critical_twist, euler_load
+from ..genalpha import Newton, StepControl
+from ..model.rod import Rod
+from ..store.results import Store
+from .sweep import run_sweep
+
+#: 16 loading rates, 1.6 x 10^(k/6) for k = -9..6: 0.0506 to 16 rad/(m s), 2.5 decades
+FIG10_RATES: tuple[float, ...] = tuple(float(1.6 * 10 ** (k / 6)) for k in range(-9, 7))
+
+#: the seed stated in section 6 (1e-8 N, read as N/m along the rod) and the seed
+#: that reproduces the onset times of Figs 8 and 9 (see the Fig 8 page)
+SEEDS: dict[str, Perturbation] = {"stated": Perturbation(1e-8), "tiny": Perturbation(1e-17)}
+
+
+def _fig10(seed: str, rates: Iterable[float] = FIG10_RATES, **grid: Any) -> list[Scene]:
+    return [Scene(a=a, kappa0=10.0, seed=SEEDS[seed], **grid) for a in rates]
+
+
+def _fig10_paced() -> list[Scene]:
+    """The Fig 10 sweep in paced steps (:func:`~dyntorsion.studies.pacing.paced`), until the
+    first peak: the fast setting of the delay law."""
+    from .pacing import paced
+
+    return [paced(replace(sc, until="first-peak")) for sc in _fig10("stated")]
+
+
+def _fig08_09(seed: str) -> list[Scene]:
+    return [
+        Scene(a=1.6, kappa0=0.0, rod=Rod(rho=rho), seed=SEEDS[seed]) for rho in (1500.0, 5000.0)
+    ]
+
+
+def _grid(seed: str) -> list[Scene]:
+    ends = (FIG10_RATES[0], 1.6, FIG10_RATES[-1])
+    return [
+        sc for n, dt in ((50, 0.01), (200, 0.0025)) for sc in _fig10(seed, ends, n_cells=n, dt=dt)
+    ]
+
+
+#: the grid ladder of the accuracy-and-cost page: N x dt, Courant number 28.9 on the diagonal
+LADDER_N: tuple[int, ...] = (25, 50, 100, 200, 400)
+LADDER_DT: tuple[float, ...] = (0.02, 0.01, 0.005, 0.0025, 0.00125)
+#: Newton tolerances of the sensitivity study
+NEWTON_TOLS: tuple[float, ...] = (1e-3, 1e-4, 1e-6, 1e-8, 1e-10, 1e-12)
+
+
+def _ladder(a: float, kappa0: float) -> list[Scene]:
+    return [Scene(a=a, kappa0=kappa0, n_cells=n, dt=dt) for n in LADDER_N for dt in LADDER_DT]
+
+
+#: the seeds of the Fig 8 page: uniform magnitudes [N/m], then point forces of 1e-8 N
+FIG08_SEEDS: tuple[Perturbation, ...] = (
+    *(Perturbation(m) for m in (1e-6, 1e-8, 1e-10, 1e-12, 1e-14, 1e-16, 1e-17)),
+    *(Perturbation(1e-8, "point", x) for x in (0.5, 0.1, 0.9)),
+)
+
+
+def _fig08_seeds() -> list[Scene]:
+    return [Scene(a=1.6, kappa0=0.0, seed=seed) for seed in FIG08_SEEDS]
+
+
+#: imperfection sensitivity ("Why is buckling delayed?"): three rates, uniform seeds
+#: 1e-12..1e-4 N/m, point seeds of 1e-8 N at three places, and no seed at all
+IMPERFECTION_RATES: tuple[float, ...] = (0.2, 1.6, 12.8)
+IMPERFECTION_SEEDS: tuple[Perturbation, ...] = (
+    *(Perturbation(10.0**k) for k in range(-12, -3)),
+    *(Perturbation(1e-8, "point", x) for x in (0.1, 0.5, 0.9)),
+    Perturbation(0.0),
+)
+
+
+def _imperfection() -> list[Scene]:
+    return [Scene(a=a, kappa0=10.0, seed=p) for a in IMPERFECTION_RATES for p in IMPERFECTION_SEEDS]
+
+
+#: mechanisms ("Why is buckling delayed?"): the gyroscopic term off, the bending rotary
+#: inertia scaled by 0.1 and 10 (torsional wave speed unchanged), and the rotating-frame
+#: transport term rho A (w x u) off (not a physical model: a probe of the spin coupling of
+#: the lateral motion), at the three rates
+MECHANISMS: dict[str, dict[str, Any]] = {
+    "gyroscopic term off": {"terms": (("gyro", 0.0),)},
+    "rotary inertia x 0.1": {"rotary_inertia_scale": 0.1},
+    "rotary inertia x 10": {"rotary_inertia_scale": 10.0},
+    "rotating-frame transport off": {"terms": (("wxu", 0.0),)},
+}
+
+
+def _mechanisms() -> list[Scene]:
+    return [Scene(a=a, kappa0=10.0, **kw) for a in IMPERFECTION_RATES for kw in MECHANISMS.values()]
+
+
+#: the delay law under an axial load ("Tension and compression" page): loads as fractions
+#: of the clamped Euler load 4 pi^2 B / L^2, every third Fig 10 rate, the stated seed,
+#: and the pretwist at the paper's ratio kappa0 / kappa_cri = 10 / 11.2335 of each load
+TENSION_FRACTIONS: tuple[float, ...] = (-0.5, -0.25, 0.0, 0.5, 1.0)
+TENSION_RATES: tuple[float, ...] = FIG10_RATES[::3]
+
+
+def tension_scenes(fraction: float, rates: Iterable[float] = TENSION_RATES) -> list[Scene]:
+    """The rate sweep at axial load ``fraction`` x the clamped Euler load (Table 1 rod)."""
+    rod = Rod()
+    T = fraction * euler_load(rod, "clamped")
+    kappa0 = 10.0 if T == 0.0 else 10.0 * critical_twist(rod, T) / critical_twist(rod)
+    return [Scene(a=a, kappa0=kappa0, tension=T, seed=SEEDS["stated"]) for a in rates]
+
+
+def _newton(a: float, kappa0: float, seed: str = "stated") -> list[Scene]:
+    return [
+        Scene(a=a, kappa0=kappa0, seed=SEEDS[seed], newton=Newton(tol=tol)) for tol in NEWTON_TOLS
+    ]
+
+
+#: name -> function returning the scenes; ``make data`` runs them all
+PRESETS: dict[str, Callable[[], list[Scene]]] = {
+    "fig10": lambda: _fig10("stated"),
+    "fig10-tiny-seed": lambda: _fig10("tiny"),
+    "fig10-paced": _fig10_paced,
+    "fig08-09": lambda: _fig08_09("stated"),
+    "fig08-09-tiny-seed": lambda: _fig08_09("tiny"),
+    "fig10-grid": lambda: _grid("stated"),
+    "fig10-grid-tiny-seed": lambda: _grid("tiny"),
+    "accuracy-fig08": lambda: _ladder(1.6, 0.0),
+    "accuracy-fast": lambda: _ladder(16.0, 10.0),
+    "newton-fig08": lambda: _newton(1.6, 0.0),
+    "newton-fast": lambda: _newton(16.0, 10.0),
+    "newton-fast-tiny-seed": lambda: _newton(16.0, 10.0, "tiny"),
+    "fig08-seeds": _fig08_seeds,
+    "imperfection": _imperfection,
+    "mechanisms": _mechanisms,
+    "tension": lambda: [sc for f in TENSION_FRACTIONS for sc in tension_scenes(f)],
+}
+
+
+def cached(name: str, store: Store | str | Path | None = None) -> pd.DataFrame:
+    """The table of a named preset read from ``store`` (default :func:`~dyntorsion.store.location.default_store`), computing
+    nothing: a missing scene raises :class:`MissingResultError`, a stale one
+    :class:`~dyntorsion.store.results.StaleResultError`, each asking for ``make data``."""
+    return run_sweep(preset(name), store, compute=False, on_stale="error", progress=False)
+
+
+#: the step-size control every preset runs with (issue 15): identical to fixed steps
+#: until the first rejected step, so the onsets do not move, and the runs go on past the
+#: post-buckling whip to self-contact or t_end instead of stopping on a Newton failure
+PRESET_CONTROL = StepControl()
+
+
+def preset(name: str) -> list[Scene]:
+    """The scenes of a named sweep (see :data:`PRESETS`), each with the step-size
+    control :data:`PRESET_CONTROL`."""
+    if name not in PRESETS:
+        raise ValueError(f"preset={name!r}; allowed: {', '.join(PRESETS)}")
+    return [
+        replace(sc, scheme=replace(sc.scheme, control=PRESET_CONTROL)) for sc in PRESETS[name]()
+    ]
