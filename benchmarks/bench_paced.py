@@ -24,6 +24,7 @@ import pandas as pd
 
 from dyntorsion.store.results import Store
 from dyntorsion.studies import sweep as S
+from dyntorsion.studies import presets as P
 
 HERE = Path(__file__).resolve().parent
 
@@ -33,10 +34,10 @@ def main() -> None:
     p.add_argument("--jobs", type=int, default=1, help="local processes for the N = 200 runs")
     p.add_argument("--store", default=str(HERE / ".paced-reference"), help="where they are kept")
     args = p.parse_args()
-    fine = [replace(sc, until="first-peak", n_cells=200, dt=0.0025) for sc in S.preset("fig10")]
+    fine = [replace(sc, until="first-peak", n_cells=200, dt=0.0025) for sc in P.preset("fig10")]
     t200 = S.run_sweep(fine, Store(args.store), jobs=args.jobs, progress=False)["t_c"].to_numpy()
-    std = S.cached("fig10")
-    paced = S.cached("fig10-paced")
+    std = P.cached("fig10")
+    paced = P.cached("fig10-paced")
     t100, tp = std["t_c"].to_numpy(), paced["t_c"].to_numpy()
     conv = t200 + (t200 - t100) / 3
     pct = lambda x: 100 * (x / conv - 1)  # noqa: E731

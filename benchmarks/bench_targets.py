@@ -24,7 +24,7 @@ Newton counts per step of the Fig 8 scene are printed too (they do not depend on
   8 dt while the rod is straight; the largest change of t_c against the run at dt is
   printed), and at dt = 0.02 s throughout (a quarter of the steps, the largest change
   of t_c printed): even then the sweep takes well over 2 s at the standard step;
-* the same sweep in paced steps (``S.preset("fig10-paced")``, :mod:`dyntorsion.studies.pacing`:
+* the same sweep in paced steps (``P.preset("fig10-paced")``, :mod:`dyntorsion.studies.pacing`:
   384 steps to each scene's estimated onset, Newton tol 1e-6, until the first peak;
   the estimates are timed with it), with its largest change of t_c against the
   standard grid (floor 2 s; ``benchmarks/bench_paced.py`` compares both with the
@@ -53,8 +53,9 @@ def ladder_t_c(preset: str, n_cells: int, dt: float) -> float:
     """t_c of one grid of a cached accuracy ladder (``make data``: ``accuracy-fig08``, the
     Fig 8 scene; ``accuracy-fast``, a = 16)."""
     from dyntorsion.studies import sweep as S
+    from dyntorsion.studies import presets as P
 
-    t = S.cached(preset)
+    t = P.cached(preset)
     row = t[(t["n_cells"] == n_cells) & ((t["dt"] - dt).abs() < 1e-12 * dt)]
     return float(row["t_c"].iloc[0])
 
@@ -112,7 +113,7 @@ try:
     res["fig8_fast_t_c"] = fast8().t_c
 except Exception:
     res["fig8_fast_s"] = res["fig8_fast_t_c"] = float("nan")
-scenes = S.preset("fig10")
+scenes = P.preset("fig10")
 if quick:
     scenes = scenes[::4]
 res["fig10_scenes"] = len(scenes)
@@ -147,11 +148,11 @@ try:
 except ImportError:
     res["fig10_long_s"] = res["fig10_peak_s"]
     res["fig10_long_err_pct"] = 0.0
-if "fig10-paced" in S.PRESETS:  # paced steps (dyntorsion.studies.pacing)
-    S.preset("fig10-paced")  # the linear models of the estimate are built once a process
+if "fig10-paced" in P.PRESETS:  # paced steps (dyntorsion.studies.pacing)
+    P.preset("fig10-paced")  # the linear models of the estimate are built once a process
 
     def paced_sweep():
-        todo = S.preset("fig10-paced")  # the estimates are part of the cost
+        todo = P.preset("fig10-paced")  # the estimates are part of the cost
         return [S.run_scene(sc) for sc in (todo[::4] if quick else todo)]
 
     out3 = []

@@ -20,6 +20,7 @@ from dyntorsion import genalpha as ga
 from dyntorsion.buckling.simulate import Perturbation
 from dyntorsion.store import results as R
 from dyntorsion.studies import sweep as S
+from dyntorsion.store import location as L
 
 
 def old_records(commit: str, kind: str = S.KIND) -> list[dict]:
@@ -84,7 +85,7 @@ def compare(old: dict, new: dict) -> tuple[str, float, list[str]]:
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("commit")
-    ap.add_argument("--store", default=str(S.default_store()))
+    ap.add_argument("--store", default=str(L.default_store()))
     args = ap.parse_args(argv)
     store = R.Store(args.store)
     tally: Counter = Counter()

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from dyntorsion import Rod
-from dyntorsion.buckling.delay_law import fit_power_law
+from dyntorsion.buckling.delay_law import fit_power_law, paper_law
 from dyntorsion.buckling.statics import critical_twist
 from dyntorsion.store import location as L
 from dyntorsion.studies import presets as P
@@ -17,7 +17,7 @@ A = np.array(P.FIG10_RATES)
 # ------------------------------------------------------------------ the fit itself
 def test_paper_law_predicts_the_paper_times_until_buckling():
     """Section 6: b = 160.60, sigma = 0.5680 give 20.11 s (Fig 8) and 25.45 s (Fig 9)."""
-    exact = fit_power_law(A, S.paper_law(A, ROD), ROD, n_boot=0)
+    exact = fit_power_law(A, paper_law(A, ROD), ROD, n_boot=0)
     assert exact.time_to_buckle(1.6) == pytest.approx(20.11, abs=0.005)
     assert exact.time_to_buckle(1.6, rod=ROD.with_(rho=5000.0)) == pytest.approx(25.45, abs=0.005)
 
@@ -38,7 +38,7 @@ def test_fit_uncertainties_cover_the_truth(rng):
     """Noisy synthetic sweeps: the 95 % intervals hold the true b, sigma and kappa_cri in
     most of 40 repetitions, and the covariance errors match the scatter of the estimates."""
     b, sigma, noise = 160.6, 0.568, 0.5
-    truth = S.paper_law(A, ROD)
+    truth = paper_law(A, ROD)
     est, inside, inside_cov = [], 0, 0
     for _ in range(40):
         k = truth + rng.normal(0.0, noise, A.size)
@@ -55,7 +55,7 @@ def test_fit_uncertainties_cover_the_truth(rng):
 
 
 def test_fit_is_reproducible():
-    k = S.paper_law(A, ROD) + np.linspace(-0.3, 0.3, A.size)
+    k = paper_law(A, ROD) + np.linspace(-0.3, 0.3, A.size)
     f1, f2 = (fit_power_law(A, k, ROD, kappa_cri=None, n_boot=100, seed=7) for _ in range(2))
     assert f1.bootstrap == f2.bootstrap and f1.b == f2.b
 

@@ -81,8 +81,8 @@ A4, K4 = [0.1, 0.4, 1.6, 6.4], [12.0, 13.0, 14.5, 17.0]
         (A4, K4, {"kappa_cri": math.inf}, "kappa_cri=inf"),
         (A4, [1.0, 2.0, 3.0, 4.0], {}, "below kappa_cri"),
         (A4, [12.0, 13.0, 11.0, 14.0], {}, "1 of 4"),
-        ([1.6] * 4, K4, {}, "1 distinct rate"),
-        ([1.6, 1.6, 1.6, 3.2], K4, {"kappa_cri": None}, "2 distinct rate"),
+        ([1.6] * 4, K4, {}, "it holds 1"),
+        ([1.6, 1.6, 1.6, 3.2], K4, {"kappa_cri": None}, "it holds 2"),
         (A4, [13.0] * 4, {"kappa_cri": None}, "the same at every rate"),
     ],
 )

@@ -11,6 +11,7 @@ grids; runs beyond a step budget are not drawn).  The hypothesis profile comes f
 from __future__ import annotations
 
 import math
+import re
 import subprocess
 import sys
 import tempfile
@@ -41,8 +42,13 @@ def number(lo: float, hi: float) -> st.SearchStrategy:
 
 
 def names_one_of(err: Exception, names) -> None:
+    """The message names one of ``names`` as a parameter: the name as a word of its own,
+    followed by ``=``, ``must`` or ``and`` (so that "s" is not found in "must")."""
     msg = str(err)
-    assert any(n in msg for n in names), f"{type(err).__name__} names none of {names}: {msg}"
+    found = [
+        n for n in names if re.search(rf"(?<![\w.]){re.escape(n)}\s*(=|must\b|and\b)", msg)
+    ]
+    assert found, f"{type(err).__name__} names none of {names} as a parameter: {msg}"
 
 
 # ------------------------------------------------------------------------------ Rod
@@ -79,7 +85,7 @@ SIM_ARGS = {
     "check_every": st.one_of(st.none(), st.integers(-1, 5), JUNK),
     "snapshots": st.one_of(st.just(()), st.lists(number(0.0, 0.5), max_size=2)),
 }
-SIM_NAMES = ["a=", "kappa0", "n_cells", "dt", "t_end", "perturbation", "check_every", "snapshots"]
+SIM_NAMES = ["a", "kappa0", "n_cells", "dt", "t_end", "perturbation", "check_every", "snapshots"]
 
 
 def _steps(kw) -> float:
@@ -193,9 +199,7 @@ def test_series_and_closed_forms_answer_or_name_the_parameter(problem, kw, s, t,
             out = fn(s, t, **kw, **args, **extra)
         except (ValueError, TypeError) as err:
             event(f"{problem} {fn.__name__.split('_')[-1]}: {type(err).__name__}")
-            names_one_of(
-                err, ["c=", "L=", "s ", "s=", "t ", "t=", "terms", "tol", "images", "t up"]
-            )
+            names_one_of(err, ["c", "L", "s", "t", "terms", "tol", "images", "t up"])
             continue
         event(f"{problem} {fn.__name__.split('_')[-1]}: result")
         assert np.all(np.isfinite(np.asarray(out, dtype=float)))
@@ -214,7 +218,7 @@ def test_fit_is_finite_or_says_why(points, kappa_cri, n_boot):
         f = fit_power_law(a, k, kappa_cri=kappa_cri, n_boot=n_boot)
     except (ValueError, TypeError) as err:
         event(f"fit: {type(err).__name__}")
-        names_one_of(err, ["a ", "a=", "kappa3", "kappa_cri", "rate", "points", "eq (33)"])
+        names_one_of(err, ["a", "kappa3", "kappa_cri", "rate", "points"])
         return
     event("fit: result")
     for v in (f.b, f.sigma, f.kappa_cri, f.b_err, f.sigma_err, f.residual_rms):
@@ -239,7 +243,7 @@ SCENE_ARGS = {
     "window": st.one_of(st.just((0.1, 0.5)), st.tuples(number(0.0, 1.0), number(0.0, 1.0))),
     "tension": number(-1e-3, 1e-3),
 }
-SCENE_NAMES = ["a=", "kappa0", "n_cells", "dt", "t_end", "window", "tension", "T=", "horizon"]
+SCENE_NAMES = ["a", "kappa0", "n_cells", "dt", "t_end", "window", "tension", "T", "horizon"]
 
 
 @given(st.fixed_dictionaries(SCENE_ARGS))

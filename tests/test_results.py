@@ -5,9 +5,13 @@ import json
 
 import pytest
 
+import dyntorsion.studies  # noqa: F401  (registers the package's record kinds)
 from dyntorsion import __version__
 from dyntorsion.store import fingerprint as F
 from dyntorsion.store import results as R
+
+#: the demo records' kind, computed by this module's own code
+F.register_kind("demo", ("dyntorsion.store.results",))
 
 PARAMS = {"a": 1.6, "grid": {"n_cells": 100, "dt": 0.005}, "window": (0.1, 0.5)}
 RESULT = {"t_c": 14.7, "kappa3": 23.52, "stopped": "self-contact"}
@@ -25,7 +29,7 @@ def test_roundtrip_with_provenance(store):
     assert rec["params"]["window"] == [0.1, 0.5]
     prov = rec["provenance"]
     assert prov["package_version"] == __version__
-    assert prov["code"] == F.code_fingerprint()
+    assert prov["code"] == F.code_of("demo")
     assert prov["wall_time_s"] == 1.25
     assert {"python", "numpy", "numba", "created"} <= set(prov)
     assert path.name == f"demo-{R.key('demo', PARAMS)}.json"
@@ -121,8 +125,9 @@ def test_fingerprint_ignores_docstrings_and_comments_but_not_code():
     assert F._source_digest("dyntorsion.store.results") == F._source_digest(
         "dyntorsion.store.results"
     )
-    assert F.code_fingerprint() == F.code_fingerprint(F.DEFAULT_ROOTS)
-    assert F.code_fingerprint(F.DEFAULT_ROOTS[:-1]) != F.code_fingerprint()
+    roots = F.KIND_ROOTS["buckling-onset"]
+    assert F.code_fingerprint(roots) == F.code_of("buckling-onset")
+    assert F.code_fingerprint(roots[:-1]) != F.code_of("buckling-onset")
 
 
 def test_fingerprint_reaches_what_the_old_hand_list_missed():
@@ -229,3 +234,45 @@ def test_fingerprint_ignores_import_order(tmp_path, monkeypatch):
     monkeypatch.syspath_prepend(str(tmp_path))
     da, db, dc = (F._source_digest(f"fp_demo.{m}") for m in "abc")
     assert da == db != dc
+
+
+def test_moving_a_definition_to_another_module_keeps_the_fingerprint(tmp_path, monkeypatch):
+    """Issue 31: records survive a change of layout.  The helper moves from b.py into a
+    folder (sub/c.py) with the same code: same fingerprint; its code edited: another."""
+    import importlib
+    import sys
+
+    def package(helper_module: str, helper_code: str) -> str:
+        name = f"fp_move_{abs(hash((helper_module, helper_code))) % 10**8}"
+        pkg = tmp_path / name
+        (pkg / "sub").mkdir(parents=True)
+        (pkg / "__init__.py").write_text("")
+        (pkg / "sub" / "__init__.py").write_text("")
+        rel = "." + helper_module.replace("/", ".")
+        (pkg / "a.py").write_text(
+            f"from {rel} import helper\n\n\ndef root(x):\n    return helper(x)\n"
+        )
+        (pkg / f"{helper_module}.py").write_text(f"def helper(x):\n    return {helper_code}\n")
+        monkeypatch.syspath_prepend(str(tmp_path))
+        importlib.invalidate_caches()
+        monkeypatch.setattr(F, "PACKAGE", name)
+        sys.modules.pop(f"{name}.a", None)
+        return F.fingerprint_of(F.reachable((f"{name}.a:root",)))
+
+    here = package("b", "2 * x")
+    assert package("sub/c", "2 * x") == here
+    assert package("sub/c", "3 * x") != here
+
+
+def test_every_registered_kind_is_a_record_kind_of_the_studies():
+    """The store knows no physics: the kinds' roots come from the studies layer."""
+    from dyntorsion.studies.kinds import KINDS
+
+    assert set(KINDS) <= set(F.KIND_ROOTS)
+    for roots in KINDS.values():
+        assert F.reachable(roots), roots
+
+
+def test_an_unregistered_kind_is_refused_with_the_fix():
+    with pytest.raises(LookupError, match="register_kind"):
+        F.code_of("nobody-registered-this")

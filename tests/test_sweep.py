@@ -12,6 +12,7 @@ import pytest
 from dyntorsion import Rod
 from dyntorsion import genalpha as ga
 from dyntorsion.app.cli import main
+from dyntorsion.buckling.delay_law import paper_law
 from dyntorsion.buckling.simulate import Perturbation
 from dyntorsion.buckling.statics import critical_twist
 from dyntorsion.store import results as R
@@ -59,9 +60,7 @@ def test_scene_rejects_bad_input(kw, name):
 def test_scene_horizon_rule():
     sc = S.Scene(a=1.6, kappa0=0.0)
     kc = critical_twist(sc.rod)
-    assert sc.kappa0 + sc.a * sc.duration() == pytest.approx(
-        kc + 3 * (S.paper_law(1.6, sc.rod) - kc)
-    )
+    assert sc.kappa0 + sc.a * sc.duration() == pytest.approx(kc + 3 * (paper_law(1.6, sc.rod) - kc))
     assert S.Scene(a=1.6, t_end=7.0).duration() == 7.0
 
 

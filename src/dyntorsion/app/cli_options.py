@@ -10,8 +10,8 @@ import numpy as np
 
 from ..buckling.loading import ENDS, AxialLoad, Polynomial, RampHold, Tabulated
 from ..buckling.scene import UNTIL, Scene
-from ..buckling.seed import Perturbation
-from ..model.rod import Rod
+from ..buckling.seed import STATED, Perturbation
+from ..model.rod import TABLE1, Rod
 from ..studies import fidelity
 from ..studies.fidelity import LEVELS
 from ..studies.pacing import STEPS, TOL, paced
@@ -41,12 +41,18 @@ def add_scene_options(p: argparse.ArgumentParser, kappa0: float) -> None:
     """The rod, section, load, history, ends, seed, grid and scheme options of a scene
     (``kappa0`` is the subcommand's default pretwist)."""
     g = p.add_argument_group("rod (default: Table 1)")
-    g.add_argument("--rho", type=float, default=1500.0, help="density [kg/m^3] (Table 1: 1500)")
-    g.add_argument("--E", type=float, default=1.25e7, help="Young's modulus [Pa]")
-    g.add_argument("--nu", type=float, default=0.25, help="Poisson's ratio")
-    g.add_argument("--L", type=float, default=1.0, help="length [m]")
+    g.add_argument(
+        "--rho", type=float, default=TABLE1["rho"], help="density [kg/m^3] (%(default)s)"
+    )
+    g.add_argument(
+        "--E", type=float, default=TABLE1["E"], help="Young's modulus [Pa] (%(default)s)"
+    )
+    g.add_argument("--nu", type=float, default=TABLE1["nu"], help="Poisson's ratio (%(default)s)")
+    g.add_argument("--L", type=float, default=TABLE1["L"], help="length [m] (%(default)s)")
     sec = g.add_mutually_exclusive_group()
-    sec.add_argument("--D", type=float, default=None, help="diameter of a circle [m] (1e-3)")
+    sec.add_argument(
+        "--D", type=float, default=None, help=f"diameter of a circle [m] ({TABLE1['D']:g})"
+    )
     sec.add_argument(
         "--ellipse", metavar="A,B", help="elliptic section: semi-axes along d1, d2 [m]"
     )
@@ -77,7 +83,7 @@ def add_scene_options(p: argparse.ArgumentParser, kappa0: float) -> None:
     g.add_argument(
         "--seed",
         type=float,
-        default=1e-8,
+        default=STATED,
         help="perturbation magnitude (N/m uniform, N for --seed-form point)",
     )
     g.add_argument("--seed-form", choices=("uniform", "point"), default="uniform")
@@ -145,7 +151,7 @@ def rod_from(args: argparse.Namespace) -> Rod:
     if args.rectangle:
         w, h = parse_numbers(args.rectangle, 2, "--rectangle")
         return Rod.rectangular(w=w, h=h, **mat)
-    return Rod(D=1e-3 if args.D is None else args.D, **mat)
+    return Rod(D=TABLE1["D"] if args.D is None else args.D, **mat)
 
 
 def history_from(args: argparse.Namespace, a: float | None) -> dict:

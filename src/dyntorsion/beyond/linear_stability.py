@@ -58,7 +58,7 @@ import scipy.linalg
 import scipy.optimize
 
 from ..buckling.onset import reference_level
-from ..buckling.seed import Perturbation
+from ..buckling.seed import STATED, Perturbation
 from ..buckling.statics import critical_twist
 from ..model.rod import Rod
 from . import passage as passage_kernel
@@ -334,7 +334,7 @@ class LateralModel:
         self,
         a: float,
         kappa0: float = 10.0,
-        seed: Perturbation | float = 1e-8,
+        seed: Perturbation | float = STATED,
         *,
         waves: bool = True,
         spin: bool = True,

@@ -13,9 +13,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..model.rod import Rod
+from ..published import value
 from .statics import critical_twist
 
-__all__ = ["PowerLawFit", "fit_power_law"]
+__all__ = ["PowerLawFit", "fit_power_law", "eq33", "rate_number", "paper_law"]
 
 
 @dataclass(frozen=True)
@@ -48,7 +49,7 @@ class PowerLawFit:
         """The fitted critical twist at loading rate ``a`` (L and c of ``rod``, default
         the fitted rod's: eq 33 carries the density only through c)."""
         rod = self.rod if rod is None else rod
-        return self.kappa_cri + self.b / rod.L * (np.asarray(a) * rod.L / rod.c) ** self.sigma
+        return eq33(rate_number(a, rod), self.kappa_cri, self.b / rod.L, self.sigma)
 
     def time_to_buckle(self, a: float, kappa0: float = 0.0, rod: Rod | None = None) -> float:
         """(kappa3(a) - kappa0) / a: the paper's 'time until buckling' (20.11 s and
@@ -56,8 +57,21 @@ class PowerLawFit:
         return float((self.kappa3(a, rod) - kappa0) / a)
 
 
-def _power_law(x: np.ndarray, kc: float, b_over_L: float, sigma: float) -> np.ndarray:
-    return kc + b_over_L * x**sigma
+def rate_number(a: float | np.ndarray, rod: Rod) -> np.ndarray:
+    """The dimensionless loading rate a L / c of eq (33)."""
+    return np.asarray(a) * rod.L / rod.c
+
+
+def eq33(x: np.ndarray, kappa_cri: float, b_over_L: float, sigma: float) -> np.ndarray:
+    """Eq (33) in the rate number x = a L / c: kappa3 = kappa_cri + (b / L) x^sigma."""
+    return kappa_cri + b_over_L * x**sigma
+
+
+def paper_law(a: float | np.ndarray, rod: Rod, kappa_cri: float | None = None) -> np.ndarray:
+    """kappa3 of eq (33) with the paper's b and sigma (eq 34, the paper's stated values);
+    used to choose how long a run may last."""
+    kc = critical_twist(rod) if kappa_cri is None else kappa_cri
+    return eq33(rate_number(a, rod), kc, value("b") / rod.L, value("sigma"))
 
 
 def _numbers(name: str, values) -> np.ndarray:
@@ -72,8 +86,8 @@ def _determined(a: np.ndarray, k: np.ndarray, kappa_cri: float | None, n_par: in
     rates = np.unique(a)
     if rates.size < n_par:
         raise ValueError(
-            f"a holds {rates.size} distinct rate(s); fitting {n_par} parameters needs at least "
-            f"{n_par} (eq 33 is a law in the rate)"
+            f"a must hold at least {n_par} distinct rates to fit {n_par} parameters "
+            f"(eq 33 is a law in the rate); it holds {rates.size}"
         )
     if kappa_cri is None:
         if np.ptp(k) == 0:
@@ -129,7 +143,8 @@ def fit_power_law(
     n_par = 3 if free else 2
     if a.size < n_par + 1:
         raise ValueError(
-            f"need at least {n_par + 1} points to fit {n_par} parameters (got {a.size})"
+            f"a and kappa3 must hold at least {n_par + 1} points to fit {n_par} parameters "
+            f"(got {a.size})"
         )
     _determined(a, k, kappa_cri, n_par)
     if not 0 < confidence < 1:
@@ -141,18 +156,18 @@ def fit_power_law(
         w = np.asarray(uncertainty, dtype=float)
         if w.shape != a.shape or not np.all(w > 0):
             raise ValueError("uncertainty must be one positive number per point")
-    x = a * rod.L / rod.c
+    x = rate_number(a, rod)
 
     def solve(xs: np.ndarray, ks: np.ndarray, ws: np.ndarray | None, quiet: bool = False):
         kc0 = float(kappa_cri) if not free else float(ks.min()) - 0.1 * float(np.ptp(ks))
         dk = np.maximum(ks - kc0, 1e-12 * max(1.0, abs(kc0)))
         sig0, logb0 = np.polyfit(np.log(xs), np.log(dk), 1)
         if free:
-            f, p0 = _power_law, [kc0, math.exp(logb0), sig0]
+            f, p0 = eq33, [kc0, math.exp(logb0), sig0]
         else:
 
             def f(xx, bl, sg):
-                return _power_law(xx, kappa_cri, bl, sg)
+                return eq33(xx, kappa_cri, bl, sg)
 
             p0 = [math.exp(logb0), sig0]
         with np.errstate(all="ignore"), warnings.catch_warnings():
@@ -168,10 +183,10 @@ def fit_power_law(
         try:
             p, cov, f = solve(x, k, w)
         except (RuntimeError, scipy.optimize.OptimizeWarning) as err:
-            raise ValueError(f"the data cannot determine eq (33): the fit failed ({err})") from None
+            raise ValueError(f"a and kappa3 cannot determine eq (33): the fit failed ({err})") from None
     if not (np.all(np.isfinite(p)) and np.all(np.isfinite(cov))):
         raise ValueError(
-            "the data cannot determine eq (33): the fitted parameters or their covariance "
+            "a and kappa3 cannot determine eq (33): the fitted parameters or their covariance "
             "are not finite (add rates, or fix kappa_cri)"
         )
     kc, bl, sg = (float(v) for v in p)
@@ -182,7 +197,7 @@ def fit_power_law(
     )
     if not free:
         err = np.r_[0.0, err]
-    resid = k - _power_law(x, kc, bl, sg)
+    resid = k - eq33(x, kc, bl, sg)
 
     rng = np.random.default_rng(seed)
     samples, failed = [], 0

@@ -18,6 +18,7 @@ if TYPE_CHECKING:
     from .run import BucklingRun
 
 __all__ = [
+    "WINDOW",
     "Onset",
     "check_window",
     "STATUSES",
@@ -27,6 +28,10 @@ __all__ = [
     "first_peak",
     "detect_onset",
 ]
+
+#: the default onset window: the straight line through the samples of |u3(L, t)| between
+#: 10 % and 50 % of its first peak, extrapolated back to the axis
+WINDOW: tuple[float, float] = (0.1, 0.5)
 
 #: a running maximum of ``|u3(L, t)|`` is the first peak once U falls below this fraction
 #: of it (so the small torsional-wave ripples on the rise do not count as a peak)
@@ -114,7 +119,7 @@ def _after_long_steps(run: BucklingRun, t_first: float, what: str) -> None:
 
 def detect_onset(
     run: BucklingRun,
-    window: tuple[float, float] = (0.1, 0.5),
+    window: tuple[float, float] = WINDOW,
     variations: Sequence[tuple[float, float]] = ((0.05, 0.3), (0.2, 0.7)),
     u_ref: float | None = None,
 ) -> Onset:

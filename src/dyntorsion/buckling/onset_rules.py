@@ -24,7 +24,7 @@ from typing import Any
 
 import numpy as np
 
-from .onset import classify_onset, detect_onset, first_peak
+from .onset import WINDOW, classify_onset, detect_onset, first_peak
 from .run import BucklingRun
 from .scene import Scene, simulated
 
@@ -34,7 +34,7 @@ KIND = "onset-rules"
 
 #: the window rules: name -> (low, high) fraction of the first peak of ``|u3(L, t)|``
 WINDOWS: dict[str, tuple[float, float]] = {
-    "window 10-50 %": (0.1, 0.5),
+    "window 10-50 %": WINDOW,
     "window 20-80 %": (0.2, 0.8),
 }
 #: every rule, in the order of the tables

@@ -20,25 +20,18 @@ from ..model.cosserat import Cosserat
 from ..model.ends import Ends, ends_from_params
 from ..model.ends import ends as _ends
 from ..model.rod import Rod
-from ..published import value
+from .delay_law import paper_law
 from .loading import ENDS, AxialLoad, History, Ramp, history_from_params
-from .onset import check_window, classify_onset, detect_onset
+from .onset import WINDOW, check_window, classify_onset, detect_onset
 from .run import BucklingRun
 from .seed import Perturbation
 from .simulate import _load, simulate
 from .statics import critical_twist
 
-__all__ = ["Scene", "UNTIL", "simulate_scene", "simulated", "run_scene", "paper_law"]
+__all__ = ["Scene", "UNTIL", "simulate_scene", "simulated", "run_scene"]
 
 #: how far a scene's run goes (:class:`Scene` ``until``)
 UNTIL = ("contact", "first-peak")
-
-
-def paper_law(a: float | np.ndarray, rod: Rod, kappa_cri: float | None = None):
-    """kappa3 of eq (33) with the paper's b and sigma (eq 34, ``paper/published.json``);
-    used to choose how long a run may last."""
-    kc = critical_twist(rod) if kappa_cri is None else kappa_cri
-    return kc + value("b") / rod.L * (np.asarray(a) * rod.L / rod.c) ** value("sigma")
 
 
 @dataclass(frozen=True)
@@ -76,7 +69,7 @@ class Scene:
     horizon: float = 3.0
     scheme: Scheme = field(default_factory=Scheme)
     newton: Newton = field(default_factory=Newton)
-    window: tuple[float, float] = (0.1, 0.5)
+    window: tuple[float, float] = WINDOW
     variations: tuple[tuple[float, float], ...] = ((0.05, 0.3), (0.2, 0.7))
     terms: tuple[tuple[str, float], ...] = ()
     rotary_inertia_scale: float = 1.0

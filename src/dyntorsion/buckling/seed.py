@@ -10,7 +10,11 @@ import numpy as np
 
 from ..genalpha.guard import real
 
-__all__ = ["Perturbation"]
+__all__ = ["STATED", "Perturbation"]
+
+#: the seed's magnitude as section 6 states it: 1e-8 (N; read as N/m along the rod by
+#: default, as N at a point with ``form="point"``)
+STATED = 1e-8
 
 
 @dataclass(frozen=True)
@@ -23,7 +27,7 @@ class Perturbation:
     ``direction`` is a body-frame unit vector (default d1).  The force acts for all t.
     """
 
-    magnitude: float = 1e-8
+    magnitude: float = STATED
     form: str = "uniform"
     location: float = 0.5
     direction: tuple[float, float, float] = (1.0, 0.0, 0.0)

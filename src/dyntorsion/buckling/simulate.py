@@ -24,7 +24,7 @@ from .loading import AxialLoad, History, Ramp
 from .onset import STATUSES, Onset, check_window, classify_onset, detect_onset
 from .postbuckling import diagnose
 from .run import BucklingRun
-from .seed import Perturbation
+from .seed import STATED, Perturbation
 from .statics import M_CRI_MP, critical_moment, critical_twist, critical_twist_numerical, m_cri
 from .stops import STRAIGHT, scene_stop
 
@@ -100,7 +100,7 @@ def simulate(
     history: History | None = None,
     tension: float | AxialLoad = 0.0,
     ends: str | Ends = "clamped",
-    perturbation: float | Perturbation = 1e-8,
+    perturbation: float | Perturbation = STATED,
     scheme: Scheme = Scheme(),
     newton: Newton = Newton(),
     snapshots: Sequence[float] = (),

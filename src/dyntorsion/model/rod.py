@@ -22,10 +22,12 @@ from __future__ import annotations
 
 import math
 import numbers
+from collections.abc import Mapping
 from dataclasses import dataclass, field, fields
+from types import MappingProxyType
 from typing import Any
 
-__all__ = ["Rod", "Section"]
+__all__ = ["TABLE1", "Rod", "Section"]
 
 
 def _number(name: str, value: Any, allowed: str, ok) -> float:
@@ -49,11 +51,13 @@ def _finite_section(name: str, dims: dict[str, float], make):
     try:
         sec = make()
     except (ZeroDivisionError, OverflowError) as err:
-        raise ValueError(f"{name} section {dims} is beyond floating point: {err}") from None
+        given = ", ".join(f"{k}={v!r}" for k, v in dims.items())
+        raise ValueError(f"{name} section {given} is beyond floating point: {err}") from None
     for k in ("A", "I1", "I2", "J", "I3"):
         v = getattr(sec, k)
         if not (math.isfinite(v) and 1e-300 < v < 1e300):
-            raise ValueError(f"{name} section {dims}: derived {k} = {v!r} is beyond floating point")
+            given = ", ".join(f"{k}={v!r}" for k, v in dims.items())
+            raise ValueError(f"{name} section {given}: derived {k} = {v!r} is beyond floating point")
     return sec
 
 
@@ -124,6 +128,13 @@ class Section:
         return _finite_section("rectangle", {"w": w, "h": h}, make)
 
 
+#: Table 1 of the paper, the one place its values are written: Young's modulus [Pa],
+#: Poisson's ratio, diameter [m], length [m] and density [kg/m^3]
+TABLE1: Mapping[str, float] = MappingProxyType(
+    {"E": 1.25e7, "nu": 0.25, "D": 1e-3, "L": 1.0, "rho": 1500.0}
+)
+
+
 @dataclass(frozen=True)
 class Rod:
     """An elastic rod; ``Rod()`` is the circular rod of Table 1.
@@ -144,11 +155,11 @@ class Rod:
     ``T0``, ``B`` and ``thickness`` (see the module docstring).
     """
 
-    E: float | None = 1.25e7
-    nu: float | None = 0.25
-    D: float | None = 1e-3
-    L: float = 1.0
-    rho: float | None = 1500.0
+    E: float | None = TABLE1["E"]
+    nu: float | None = TABLE1["nu"]
+    D: float | None = TABLE1["D"]
+    L: float = TABLE1["L"]
+    rho: float | None = TABLE1["rho"]
     section: Section | None = None
     G: float = field(init=False)
     A: float = field(init=False)
@@ -258,14 +269,14 @@ class Rod:
         return cls()
 
     @classmethod
-    def elliptic(cls, *, a: float, b: float, E: float = 1.25e7, nu: float = 0.25,
-                 L: float = 1.0, rho: float = 1500.0) -> Rod:  # fmt: skip
+    def elliptic(cls, *, a: float, b: float, E: float = TABLE1["E"], nu: float = TABLE1["nu"],
+                 L: float = TABLE1["L"], rho: float = TABLE1["rho"]) -> Rod:  # fmt: skip
         """An elliptic section with semi-axes ``a`` (along d1) and ``b`` (along d2)."""
         return cls(E=E, nu=nu, D=None, L=L, rho=rho, section=Section.ellipse(a, b))
 
     @classmethod
-    def rectangular(cls, *, w: float, h: float, E: float = 1.25e7, nu: float = 0.25,
-                    L: float = 1.0, rho: float = 1500.0) -> Rod:  # fmt: skip
+    def rectangular(cls, *, w: float, h: float, E: float = TABLE1["E"], nu: float = TABLE1["nu"],
+                    L: float = TABLE1["L"], rho: float = TABLE1["rho"]) -> Rod:  # fmt: skip
         """A rectangular section, width ``w`` along d1 and height ``h`` along d2."""
         return cls(E=E, nu=nu, D=None, L=L, rho=rho, section=Section.rectangle(w, h))
 

@@ -228,7 +228,11 @@ def fingerprint_of(sources: Mapping[str, str]) -> str:
 
 
 def code_of(kind: str | None) -> str:
-    """The code fingerprint that records of ``kind`` carry (see :data:`KIND_ROOTS`); a kind
-    nobody registered reaches no code of the package, so its records are checked by the
-    package version and their content hash alone."""
-    return code_fingerprint(KIND_ROOTS.get(kind, ()))
+    """The code fingerprint that records of ``kind`` carry (see :data:`KIND_ROOTS`)."""
+    if kind not in KIND_ROOTS:
+        raise LookupError(
+            f"kind={kind!r} has no registered code roots (registered: "
+            f"{', '.join(sorted(KIND_ROOTS)) or 'none'}): import dyntorsion.studies, which "
+            "registers the package's record kinds, or call register_kind for your own"
+        )
+    return code_fingerprint(KIND_ROOTS[kind])

@@ -25,13 +25,26 @@ import time
 from collections import deque
 from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import Any
+from typing import Any, TypedDict
 
 from .results import Store
 
-__all__ = ["cached_map", "MissingResultError", "WAIT_POLL_S"]
+__all__ = ["MapOptions", "cached_map", "MissingResultError", "WAIT_POLL_S"]
+
 
 #: how often a sweep looks for a record another sweep is computing [s]
+class MapOptions(TypedDict, total=False):
+    """How :func:`cached_map` runs what the store lacks (the one place these options are
+    named; sweeps, predictions and the consistency map pass them on unchanged)."""
+
+    executor: cf.Executor | None
+    jobs: int
+    on_stale: str
+    compute: bool
+    progress: bool | None
+    log: Callable[[str], None] | None
+
+
 WAIT_POLL_S = 0.5
 
 

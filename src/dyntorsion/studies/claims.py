@@ -36,8 +36,7 @@ from collections.abc import Iterable
 import numpy as np
 import pandas as pd
 
-from ..buckling.delay_law import fit_power_law
-from ..buckling.scene import paper_law
+from ..buckling.delay_law import fit_power_law, paper_law
 from ..buckling.statics import critical_twist
 from ..model.rod import Rod
 from ..published import value

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import Any
+from typing import Any, Unpack
 
 import numpy as np
 import pandas as pd
@@ -18,7 +18,7 @@ import pandas as pd
 from ..beyond.predictions import Prediction, run_prediction
 from ..buckling.scene import Scene
 from ..store.results import Store
-from ..store.workers import cached_map
+from ..store.workers import MapOptions, cached_map
 from .presets import IMPERFECTION_RATES
 from .presets import preset as sweep_preset_scenes
 
@@ -40,11 +40,7 @@ KIND = "linear-onset"
 def predict(
     preds: Sequence[Prediction],
     store: Store | str | Path | None = None,
-    *,
-    compute: bool = True,
-    jobs: int = 1,
-    on_stale: str = "recompute",
-    log: Callable[[str], None] | None = None,
+    **options: Unpack[MapOptions],
 ) -> pd.DataFrame:
     """Run (or read back) linear predictions; one row per prediction, in order.
 
@@ -59,11 +55,7 @@ def predict(
         run_prediction,
         KIND,
         store,
-        jobs=jobs,
-        on_stale=on_stale,
-        compute=compute,
-        progress=False,
-        log=log,
+        **{"progress": False, **options},
         show="kappa3_ref",
         command="dyntorsion linear",
     )

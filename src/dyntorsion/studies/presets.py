@@ -12,7 +12,7 @@ from typing import Any
 import pandas as pd
 
 from ..buckling.scene import Scene
-from ..buckling.seed import Perturbation
+from ..buckling.seed import STATED, Perturbation
 from ..buckling.statics import critical_twist, euler_load
 from ..genalpha import Newton, StepControl
 from ..model.rod import Rod
@@ -24,7 +24,7 @@ FIG10_RATES: tuple[float, ...] = tuple(float(1.6 * 10 ** (k / 6)) for k in range
 
 #: the seed stated in section 6 (1e-8 N, read as N/m along the rod) and the seed
 #: that reproduces the onset times of Figs 8 and 9 (see the Fig 8 page)
-SEEDS: dict[str, Perturbation] = {"stated": Perturbation(1e-8), "tiny": Perturbation(1e-17)}
+SEEDS: dict[str, Perturbation] = {"stated": Perturbation(STATED), "tiny": Perturbation(1e-17)}
 
 
 def _fig10(seed: str, rates: Iterable[float] = FIG10_RATES, **grid: Any) -> list[Scene]:
@@ -66,7 +66,7 @@ def _ladder(a: float, kappa0: float) -> list[Scene]:
 #: the seeds of the Fig 8 page: uniform magnitudes [N/m], then point forces of 1e-8 N
 FIG08_SEEDS: tuple[Perturbation, ...] = (
     *(Perturbation(m) for m in (1e-6, 1e-8, 1e-10, 1e-12, 1e-14, 1e-16, 1e-17)),
-    *(Perturbation(1e-8, "point", x) for x in (0.5, 0.1, 0.9)),
+    *(Perturbation(STATED, "point", x) for x in (0.5, 0.1, 0.9)),
 )
 
 
@@ -79,7 +79,7 @@ def _fig08_seeds() -> list[Scene]:
 IMPERFECTION_RATES: tuple[float, ...] = (0.2, 1.6, 12.8)
 IMPERFECTION_SEEDS: tuple[Perturbation, ...] = (
     *(Perturbation(10.0**k) for k in range(-12, -3)),
-    *(Perturbation(1e-8, "point", x) for x in (0.1, 0.5, 0.9)),
+    *(Perturbation(STATED, "point", x) for x in (0.1, 0.5, 0.9)),
     Perturbation(0.0),
 )
 

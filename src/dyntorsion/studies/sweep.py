@@ -14,17 +14,16 @@ them all.
 
 from __future__ import annotations
 
-import concurrent.futures as cf
 import math
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import Any
+from typing import Any, Unpack
 
 import pandas as pd
 
-from ..buckling.scene import Scene, paper_law, run_scene, simulate_scene
+from ..buckling.scene import Scene, run_scene, simulate_scene
 from ..store.results import Store, digest
-from ..store.workers import MissingResultError, cached_map
+from ..store.workers import MapOptions, MissingResultError, cached_map
 
 __all__ = [
     "Scene",
@@ -34,7 +33,6 @@ __all__ = [
     "cached_map",
     "MissingResultError",
     "KIND",
-    "paper_law",
 ]
 
 KIND = "buckling-onset"
@@ -86,13 +84,7 @@ def _legacy_status(scene: Scene, res: Mapping[str, Any]) -> str:
 def run_sweep(
     scenes: Sequence[Scene],
     store: Store | str | Path | None = None,
-    *,
-    executor: cf.Executor | None = None,
-    jobs: int = 1,
-    on_stale: str = "recompute",
-    compute: bool = True,
-    progress: bool | None = None,
-    log: Callable[[str], None] | None = None,
+    **options: Unpack[MapOptions],
 ) -> pd.DataFrame:
     """Run (or read back) a sweep; one table row per scene, in the given order.
 
@@ -116,12 +108,7 @@ def run_sweep(
         run_scene,
         KIND,
         store,
-        executor=executor,
-        jobs=jobs,
-        on_stale=on_stale,
-        compute=compute,
-        progress=progress,
-        log=log,
+        **options,
         show="kappa3",
         command="dyntorsion sweep",
     )

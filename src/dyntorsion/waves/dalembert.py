@@ -20,7 +20,7 @@ def _images(t, s, c, L, disturbance, from_left: bool, n_max: int | None = None):
     k_max = int(np.max(c * t / (2 * L))) + 1 if n_max is None else n_max
     if (k_max + 1) * max(1, t.size) > MAX_IMAGES:
         raise BudgetError(
-            f"t up to {np.max(t):.4g} s is {k_max} wave transits 2L/c: {k_max + 1} images x "
+            f"t={np.max(t):.4g} s (the latest time) is {k_max} wave transits 2L/c: {k_max + 1} images x "
             f"{t.size} points exceeds {MAX_IMAGES:.3g}; pass earlier times or fewer points"
         )
     out = np.zeros(np.broadcast(s, t).shape)
