@@ -183,7 +183,9 @@ def fit_power_law(
         try:
             p, cov, f = solve(x, k, w)
         except (RuntimeError, scipy.optimize.OptimizeWarning) as err:
-            raise ValueError(f"a and kappa3 cannot determine eq (33): the fit failed ({err})") from None
+            raise ValueError(
+                f"a and kappa3 cannot determine eq (33): the fit failed ({err})"
+            ) from None
     if not (np.all(np.isfinite(p)) and np.all(np.isfinite(cov))):
         raise ValueError(
             "a and kappa3 cannot determine eq (33): the fitted parameters or their covariance "

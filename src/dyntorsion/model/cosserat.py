@@ -33,6 +33,7 @@ switch         term                    row
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 
@@ -45,8 +46,36 @@ IDX = {name: i for i, name in enumerate(FIELDS)}
 U, W, KAPPA, N = slice(0, 3), slice(3, 6), slice(6, 9), slice(9, 12)
 TERMS = ("wxu", "kxn", "kxm", "d3xn", "gyro", "kxw", "kxu", "wxd3")
 
-# layout of the parameter vector handed to the compiled kernels
-_P_RHOA, _P_RHOI, _P_KHAT, _P_SW = 0, 1, 4, 7
+
+class Params(NamedTuple):
+    """The rod's coefficients as the compiled kernels read them: rho A, the rotary inertias
+    rho I, the stiffnesses B1, B2, C of K^, and the weight of each nonlinear term (the
+    switches of the module docstring).  The engine hands the kernels the same numbers as
+    a flat vector (:attr:`Cosserat.params`, in this order); :func:`unpack` names them."""
+
+    rhoA: float
+    rI1: float
+    rI2: float
+    rI3: float
+    B1: float
+    B2: float
+    C: float
+    wxu: float
+    kxn: float
+    kxm: float
+    d3xn: float
+    gyro: float
+    kxw: float
+    kxu: float
+    wxd3: float
+
+
+@jit
+def unpack(p) -> Params:
+    """The flat parameter vector as :class:`Params`."""
+    return Params(
+        p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], p[8], p[9], p[10], p[11], p[12], p[13], p[14]
+    )  # fmt: skip
 
 
 @jit
@@ -57,19 +86,10 @@ def _cross(a0, a1, a2, b0, b1, b2):
 @load_kernel
 def load_vector(y, p, out):
     """F(y) of eq (7) for one node (see the module docstring for the rows)."""
-    rhoA = p[0]
-    rI0, rI1, rI2 = p[1], p[2], p[3]
-    B1, B2, C = p[4], p[5], p[6]
-    s_wxu, s_kxn, s_kxm, s_d3xn, s_gyro, s_kxw, s_kxu, s_wxd3 = (
-        p[7],
-        p[8],
-        p[9],
-        p[10],
-        p[11],
-        p[12],
-        p[13],
-        p[14],
-    )
+    q = unpack(p)
+    rhoA, rI0, rI1, rI2, B1, B2, C = q.rhoA, q.rI1, q.rI2, q.rI3, q.B1, q.B2, q.C
+    s_wxu, s_kxn, s_kxm, s_d3xn = q.wxu, q.kxn, q.kxm, q.d3xn
+    s_gyro, s_kxw, s_kxu, s_wxd3 = q.gyro, q.kxw, q.kxu, q.wxd3
     u0, u1, u2 = y[0], y[1], y[2]
     w0, w1, w2 = y[3], y[4], y[5]
     k0, k1, k2 = y[6], y[7], y[8]
@@ -112,19 +132,10 @@ def _skew_into(J, r0, c0, scale, a0, a1, a2):
 @jacobian_kernel
 def load_jacobian(y, p, out):
     """dF/dy (12 x 12) of :func:`load_vector`, analytic."""
-    rhoA = p[0]
-    rI0, rI1, rI2 = p[1], p[2], p[3]
-    B1, B2, C = p[4], p[5], p[6]
-    s_wxu, s_kxn, s_kxm, s_d3xn, s_gyro, s_kxw, s_kxu, s_wxd3 = (
-        p[7],
-        p[8],
-        p[9],
-        p[10],
-        p[11],
-        p[12],
-        p[13],
-        p[14],
-    )
+    q = unpack(p)
+    rhoA, rI0, rI1, rI2, B1, B2, C = q.rhoA, q.rI1, q.rI2, q.rI3, q.B1, q.B2, q.C
+    s_wxu, s_kxn, s_kxm, s_d3xn = q.wxu, q.kxn, q.kxm, q.d3xn
+    s_gyro, s_kxw, s_kxu, s_wxd3 = q.gyro, q.kxw, q.kxu, q.wxd3
     u0, u1, u2 = y[0], y[1], y[2]
     w0, w1, w2 = y[3], y[4], y[5]
     k0, k1, k2 = y[6], y[7], y[8]
@@ -199,14 +210,14 @@ class Cosserat:
         sw = [float(self.terms.get(name, 1.0)) for name in TERMS]
         ri = self.rotary_inertia_scale
         rI1, rI2, rI3 = r.rotary_inertia
-        return np.array([r.mass_per_length, ri * rI1, ri * rI2, rI3, r.B1, r.B2, r.C, *sw])
+        return np.array(Params(r.mass_per_length, ri * rI1, ri * rI2, rI3, r.B1, r.B2, r.C, *sw))
 
     @property
     def mass_matrix(self) -> np.ndarray:
-        p = self.params
+        q = Params(*self.params)
         M = np.zeros((12, 12))
-        M[U, U] = p[0] * np.eye(3)
-        M[W, W] = np.diag(p[1:4])
+        M[U, U] = q.rhoA * np.eye(3)
+        M[W, W] = np.diag([q.rI1, q.rI2, q.rI3])
         M[KAPPA, KAPPA] = np.eye(3)
         return M
 
@@ -241,12 +252,12 @@ class Cosserat:
 
     def energy_density(self, y: np.ndarray) -> np.ndarray:
         """Kinetic + elastic energy per unit length, 1/2 rhoA|u|^2 + 1/2 w.rhoI w + 1/2 k.K^k."""
-        p = self.params
+        q = Params(*self.params)
         y = np.asarray(y)
         return 0.5 * (
-            p[0] * np.sum(y[..., U] ** 2, axis=-1)
-            + np.sum(p[1:4] * y[..., W] ** 2, axis=-1)
-            + np.sum(p[4:7] * y[..., KAPPA] ** 2, axis=-1)
+            q.rhoA * np.sum(y[..., U] ** 2, axis=-1)
+            + np.sum(np.array([q.rI1, q.rI2, q.rI3]) * y[..., W] ** 2, axis=-1)
+            + np.sum(np.array([q.B1, q.B2, q.C]) * y[..., KAPPA] ** 2, axis=-1)
         )
 
     def external_force(self, f_body: np.ndarray) -> np.ndarray:

@@ -57,7 +57,9 @@ def _finite_section(name: str, dims: dict[str, float], make):
         v = getattr(sec, k)
         if not (math.isfinite(v) and 1e-300 < v < 1e300):
             given = ", ".join(f"{k}={v!r}" for k, v in dims.items())
-            raise ValueError(f"{name} section {given}: derived {k} = {v!r} is beyond floating point")
+            raise ValueError(
+                f"{name} section {given}: derived {k} = {v!r} is beyond floating point"
+            )
     return sec
 
 
