@@ -11,14 +11,14 @@ from typing import Any
 import numpy as np
 
 from .discrete import constants
-from .march import Recording, closed, gauge, make_gate, march
+from .march import AT_ERROR, AT_LIMIT, WHY, Recording, closed, gauge, make_gate, march
 from .newton import REASONS, Status
 from .scheme import LongSteps
 from .watch import NO_WATCH, never
 
 __all__ = ["LongPhase"]
 
-_WHY = {1.0: "limit", 2.0: "error"}
+_WHY = {AT_LIMIT: "limit", AT_ERROR: "error"}
 
 
 class LongPhase:
@@ -85,7 +85,7 @@ class LongPhase:
             self._stop(f"newton: {REASONS.get(Status(out.status), 'unknown')} at t = "
                        f"{float(times[idx[done + 1]]):.6g}")  # fmt: skip
         elif closed(self.gate):
-            self._stop(_WHY[self.gate.state[2]])
+            self._stop(_WHY[self.gate.state[WHY]])
         return k0 + f * done
 
     def _stop(self, why: str) -> None:

@@ -64,6 +64,12 @@ class Gate(NamedTuple):
     state: np.ndarray
 
 
+#: the slots of :attr:`Gate.state`: levels seen, the largest gauge, why the gate closed
+#: (:data:`OPEN`, :data:`AT_LIMIT`, :data:`AT_ERROR`) and the gauge at the last three levels
+SEEN, LARGEST, WHY, G3, G2, G1 = range(6)
+OPEN, AT_LIMIT, AT_ERROR = 0.0, 1.0, 2.0
+
+
 def make_gate(fields, weight: float, limit: float, tol: float = np.inf) -> Gate:
     """A :class:`Gate` with fresh memory."""
     return Gate(np.asarray(fields, np.int64), float(weight), float(limit), float(tol), np.zeros(6))
@@ -107,23 +113,24 @@ def closes(y, gate):
     g = gauge(y, gate)
     st = gate.state
     if g >= gate.limit:
-        st[2] = 1.0
+        st[WHY] = AT_LIMIT
         return True
     if not gate.tol < np.inf:
         return False
-    seen = int(st[0])
-    st[1] = max(st[1], g)
-    if seen >= 3 and abs(g - 3.0 * st[5] + 3.0 * st[4] - st[3]) > 12.0 * gate.tol * st[1]:
-        st[2] = 2.0
+    seen = int(st[SEEN])
+    st[LARGEST] = max(st[LARGEST], g)
+    third_difference = g - 3.0 * st[G1] + 3.0 * st[G2] - st[G3]
+    if seen >= 3 and abs(third_difference) > 12.0 * gate.tol * st[LARGEST]:
+        st[WHY] = AT_ERROR
         return True
-    st[3], st[4], st[5] = st[4], st[5], g
-    st[0] = seen + 1
+    st[G3], st[G2], st[G1] = st[G2], st[G1], g
+    st[SEEN] = seen + 1
     return False
 
 
 def closed(gate: Gate) -> bool:
     """Whether :func:`closes` has closed ``gate`` at some level."""
-    return gate.state[2] != 0.0
+    return gate.state[WHY] != OPEN
 
 
 @jit(
@@ -139,7 +146,7 @@ def march(F, dF, test, con, w, fac, opts, forcing, rec, gate, watch, stats):
     retries of step k.  Returns the number of steps completed and the last
     :class:`Outcome`.  Fewer steps than asked: a failure, or, with a converged
     outcome, the ``gate`` closed the chunk after its last completed step (it is
-    consulted at every level, the last one too: ``gate.state[2]`` says), or
+    consulted at every level, the last one too: ``gate.state[WHY]`` says), or
     ``test(y, watch)`` (a :class:`~.watch.Watch`, consulted at its levels
     ``rec.offset + k + 1``) said stop.
     """
