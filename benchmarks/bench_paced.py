@@ -23,8 +23,8 @@ import numpy as np
 import pandas as pd
 
 from dyntorsion.store.results import Store
-from dyntorsion.studies import sweep as S
 from dyntorsion.studies import presets as P
+from dyntorsion.studies import sweep as S
 
 HERE = Path(__file__).resolve().parent
 

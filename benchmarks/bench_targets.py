@@ -52,7 +52,6 @@ ROOT = Path(__file__).resolve().parents[1]
 def ladder_t_c(preset: str, n_cells: int, dt: float) -> float:
     """t_c of one grid of a cached accuracy ladder (``make data``: ``accuracy-fig08``, the
     Fig 8 scene; ``accuracy-fast``, a = 16)."""
-    from dyntorsion.studies import sweep as S
     from dyntorsion.studies import presets as P
 
     t = P.cached(preset)
@@ -69,7 +68,7 @@ MEASURE = r"""
 import json, statistics, sys, time
 sys.path.insert(0, sys.argv[1])
 quick = sys.argv[2] == "1"
-from dyntorsion import buckling as b, sweep as S
+from dyntorsion.buckling import simulation as b, sweep as S
 from dyntorsion.beyond.linear_stability import LateralModel
 
 def median(f, n):

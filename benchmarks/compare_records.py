@@ -17,10 +17,10 @@ from collections import Counter
 
 from dyntorsion import Rod
 from dyntorsion import genalpha as ga
-from dyntorsion.buckling.simulate import Perturbation
+from dyntorsion.buckling.simulation import Perturbation
+from dyntorsion.store import location as L
 from dyntorsion.store import results as R
 from dyntorsion.studies import sweep as S
-from dyntorsion.store import location as L
 
 
 def old_records(commit: str, kind: str = S.KIND) -> list[dict]:

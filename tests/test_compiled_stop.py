@@ -6,9 +6,9 @@ import numba
 import numpy as np
 import pytest
 
-from dyntorsion import buckling as buckling
+from dyntorsion.buckling import simulation as buckling
+from dyntorsion.buckling import stops
 from dyntorsion.buckling.onset import PEAK_FALL, reference_level
-from dyntorsion.buckling.simulate import stops
 from dyntorsion.genalpha import LongSteps, Scheme, StepControl
 from dyntorsion.genalpha.watch import STOP_SIGNATURE, CompiledStop
 

@@ -14,7 +14,7 @@ import pytest
 
 from dyntorsion import Rod
 from dyntorsion import waves as w
-from dyntorsion.buckling.simulate import (
+from dyntorsion.buckling.simulation import (
     TESTED_COURANT,
     TESTED_DT_OVER_T0,
     GridWarning,

@@ -22,7 +22,7 @@ from dyntorsion import waves as W
 from dyntorsion.app.cli import main
 from dyntorsion.buckling.delay_law import fit_power_law
 from dyntorsion.buckling.onset import detect_onset
-from dyntorsion.buckling.simulate import Perturbation, simulate
+from dyntorsion.buckling.simulation import Perturbation, simulate
 from dyntorsion.genalpha.guard import BudgetError, StepLongerThanRunError
 from dyntorsion.store import results as R
 from dyntorsion.store.leases import acquire_lease

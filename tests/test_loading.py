@@ -1,5 +1,5 @@
 """Scenes as data: twist histories, axial loads, end sets, and rods of any section run
-through the public API (dyntorsion.buckling.loading, buckling.simulate, sweep.Scene)."""
+through the public API (dyntorsion.buckling.loading, buckling.simulation, sweep.Scene)."""
 
 from __future__ import annotations
 
@@ -22,7 +22,7 @@ from dyntorsion.buckling.loading import (
     history_from_params,
 )
 from dyntorsion.buckling.onset import detect_onset
-from dyntorsion.buckling.simulate import GridWarning, simulate
+from dyntorsion.buckling.simulation import GridWarning, simulate
 from dyntorsion.model.ends import Ends, IllPosedEndsError
 from dyntorsion.studies import fidelity
 from dyntorsion.studies import sweep as S
@@ -69,7 +69,7 @@ def test_ill_posed_end_sets_are_refused_with_the_reason(left, right, why):
 
 
 def test_an_ill_posed_set_never_reaches_the_first_step(monkeypatch):
-    import dyntorsion.buckling.simulate as B
+    import dyntorsion.buckling.simulation as B
 
     monkeypatch.setattr(B, "integrate", lambda *a, **k: pytest.fail("integrate was called"))
     with pytest.raises(IllPosedEndsError, match="inextensibility"):

@@ -25,7 +25,7 @@ from hypothesis import strategies as st
 from dyntorsion import Rod
 from dyntorsion import waves as W
 from dyntorsion.buckling.delay_law import fit_power_law
-from dyntorsion.buckling.simulate import STATUSES, GridWarning, Perturbation, simulate
+from dyntorsion.buckling.simulation import STATUSES, GridWarning, Perturbation, simulate
 from dyntorsion.studies import sweep as S
 
 FEW = max(3, settings.default.max_examples // 4)  # for examples that run a scene or a process
@@ -45,9 +45,7 @@ def names_one_of(err: Exception, names) -> None:
     """The message names one of ``names`` as a parameter: the name as a word of its own,
     followed by ``=``, ``must`` or ``and`` (so that "s" is not found in "must")."""
     msg = str(err)
-    found = [
-        n for n in names if re.search(rf"(?<![\w.]){re.escape(n)}\s*(=|must\b|and\b)", msg)
-    ]
+    found = [n for n in names if re.search(rf"(?<![\w.]){re.escape(n)}\s*(=|must\b|and\b)", msg)]
     assert found, f"{type(err).__name__} names none of {names} as a parameter: {msg}"
 
 

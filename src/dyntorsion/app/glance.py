@@ -18,7 +18,7 @@ import pandas as pd
 
 from .. import __version__
 from ..buckling.delay_law import fit_power_law
-from ..buckling.simulate import m_cri
+from ..buckling.simulation import m_cri
 from ..buckling.statics import critical_twist
 from ..model.rod import Rod
 from ..published import PAPER, published

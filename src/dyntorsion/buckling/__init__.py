@@ -4,7 +4,7 @@
   ends, end-twist history, axial load, seed, grid, scheme); :func:`~.scene.run_scene` runs it;
 * :mod:`.loading` -- end-twist histories (the ramp of eq 30 and others) and axial loads;
 * :mod:`.seed` -- the perturbative force that seeds buckling;
-* :mod:`.simulate` -- the 12-field rod under eq (30), integrated by the engine of section 3;
+* :mod:`.simulation` -- the 12-field rod under eq (30), integrated by the engine of section 3;
 * :mod:`.stops` -- compiled stop tests: self-contact, crossing, the first peak;
 * :mod:`.run` -- a run's traces and snapshots, and its shapes (section 4);
 * :mod:`.onset`, :mod:`.onset_rules` -- the onset of buckling read from u3(L, t);
@@ -17,7 +17,7 @@ from .delay_law import PowerLawFit, fit_power_law
 from .onset import STATUSES, Onset, check_window, classify_onset, detect_onset
 from .run import BucklingRun
 from .seed import Perturbation
-from .simulate import GridWarning, check_grid, simulate
+from .simulation import GridWarning, check_grid, simulate
 from .statics import M_CRI_MP, critical_moment, critical_twist, critical_twist_numerical, m_cri
 
 __all__ = [

@@ -25,7 +25,7 @@ from .loading import ENDS, AxialLoad, History, Ramp, history_from_params
 from .onset import WINDOW, check_window, classify_onset, detect_onset
 from .run import BucklingRun
 from .seed import Perturbation
-from .simulate import _load, simulate
+from .simulation import _load, simulate
 from .statics import critical_twist
 
 __all__ = ["Scene", "UNTIL", "simulate_scene", "simulated", "run_scene"]
@@ -255,7 +255,7 @@ def _canonical_terms(terms: Any) -> tuple[tuple[str, float], ...]:
 
 
 def simulate_scene(scene: Scene, t_end: float | None = None) -> BucklingRun:
-    """:func:`~dyntorsion.buckling.simulate` with everything ``scene`` sets, to ``t_end``
+    """:func:`~dyntorsion.buckling.simulation.simulate` with everything ``scene`` sets, to ``t_end``
     (default: the scene's own duration); a Newton failure ends the run."""
     return simulate(
         scene.rod,

@@ -1,4 +1,4 @@
-"""The stop tests of the buckling scene (:func:`~dyntorsion.buckling.simulate`), compiled
+"""The stop tests of the buckling scene (:func:`~dyntorsion.buckling.simulation.simulate`), compiled
 (:class:`~dyntorsion.genalpha.watch.CompiledStop`): the march consults them itself at
 every check level, so a run checked at every step does not return to Python at every
 step.

@@ -64,7 +64,7 @@ class Fidelity:
         return Scheme(lam_s=self.lam_s, lam_t=self.lam_t)
 
     def simulate_kwargs(self) -> dict[str, Any]:
-        """Keywords for :func:`dyntorsion.buckling.simulate` and :class:`dyntorsion.buckling.scene.Scene`."""
+        """Keywords for :func:`dyntorsion.buckling.simulation.simulate` and :class:`dyntorsion.buckling.scene.Scene`."""
         return {"n_cells": self.n_cells, "dt": self.dt, "scheme": self.scheme()}
 
     def solve_kwargs(self) -> dict[str, Any]:
