@@ -51,7 +51,8 @@ def coarse_run():
     )
 
 
-def test_coarse_onset_regression(coarse_run, num_regression):
+def test_coarse_onset_pin_of_our_output(coarse_run, num_regression):
+    """A pin of our own output on a coarse grid (any change of the engine moves it); the onset's accuracy is tested against converged grids on the accuracy ladder (tests/test_fidelity.py)."""
     onset = b.detect_onset(coarse_run)
     assert onset.kappa3 > b.critical_twist(Rod.paper())  # delayed, as in the paper
     num_regression.check(
@@ -176,7 +177,7 @@ def test_onset_of_a_synthetic_trace():
 
 @pytest.mark.slow
 @pytest.mark.parametrize("rho", [1500.0, 5000.0], ids=["fig08", "fig09"])
-def test_paper_scene_onset_regression(rho, num_regression):
+def test_paper_scene_onset_pin_of_our_output(rho, num_regression):
     """The full Fig 8 / Fig 9 scenes (kappa0 = 0, a = 1.6, default seed, N = 100, dt = 0.005)."""
     run = b.simulate(
         Rod.paper().with_(rho=rho), a=1.6, n_cells=100, dt=0.005, t_end=45.0, on_failure="return"

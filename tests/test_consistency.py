@@ -118,9 +118,9 @@ def test_fits_skip_ranges_with_a_rate_that_did_not_buckle(maps):
     assert len(cells) < len(K.MAP_SEEDS) * len(RULES) * len(C.rate_ranges(K.LADDER))
 
 
-def test_closest_cell_regression(best, at8, num_regression):
+def test_closest_cell_pin_of_our_output(best, at8, num_regression):
     """The closest cell (the seed of claim 1, its rule, form and rates) and what it
-    gives, from the map and refitted at the standard grid."""
+    gives, from the map and refitted at the standard grid: a pin of our own output."""
     pairs = {
         f"n_{i}_{j}": int(((at8[i] <= 1) & (at8[j] <= 1)).sum())
         for i in ("m1", "m2", "m3", "m4")

@@ -95,7 +95,8 @@ def test_every_scene_of_the_sweep_buckled(sweep):
     assert (table["uncertainty_kappa3"] < 0.1 * (table["kappa3"] - critical_twist(ROD))).all()
 
 
-def test_committed_fit_regression(sweep, num_regression):
+def test_committed_fit_pin_of_our_output(sweep, num_regression):
+    """A pin of our own output: the fit of the committed sweeps; the fit itself is checked against the exact law in test_paper_law_predicts_the_paper_times_until_buckling."""
     name, table = sweep
     fixed = fit_power_law(table["a"], table["kappa3"], ROD, n_boot=500)
     free = fit_power_law(table["a"], table["kappa3"], ROD, kappa_cri=None, n_boot=500)

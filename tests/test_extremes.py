@@ -1,12 +1,12 @@
 """Stability at the extremes: lambda_inf, Courant numbers, loading rates, densities, grids.
 
-Every run either returns finite numbers that honour the boundary data, or raises
-ConvergenceError saying when, after how many iterations and with what residual;
+Every run returns finite numbers that honour the boundary data (a failed Newton solve,
+which says when, after how many iterations and with what residual, is tested on its own in
+tests/test_buckling.py);
 the linear wave conserves energy at lambda_inf = -1 and loses it otherwise.
 """
 
 import itertools
-import math
 import warnings
 
 import numpy as np
@@ -20,7 +20,7 @@ from dyntorsion.buckling.simulation import (
     GridWarning,
     simulate,
 )
-from dyntorsion.genalpha import ConvergenceError, Scheme, SchemeWarning
+from dyntorsion.genalpha import Scheme, SchemeWarning
 
 ROD = Rod()
 
@@ -106,25 +106,17 @@ def _sound_or_says_why(rod, a, n_cells, dt, t_end, lam_t, far, caught):
         with pytest.raises(ValueError, match=r"dt=.*exceeds.*t_end"):
             simulate(rod, a=a, kappa0=10.0, n_cells=n_cells, dt=dt, t_end=t_end)
         return
-    try:
-        run = simulate(
-            rod,
-            a=a,
-            kappa0=10.0,
-            n_cells=n_cells,
-            dt=dt,
-            t_end=t_end,
-            scheme=Scheme(lam_t=lam_t),
-            stop_at_contact=False,
-            progress=False,
-        )
-    except ConvergenceError as err:
-        assert math.isfinite(err.t) and 0 < err.t <= t_end + dt
-        assert err.iterations >= 1 and err.residual > 0
-        assert "t=" in str(err) and "residual" in str(err)
-        assert err.run is not None and np.all(np.isfinite(err.run["u3_end"]))
-        warned()
-        return
+    run = simulate(  # a ConvergenceError fails the test: every extreme here converges
+        rod,
+        a=a,
+        kappa0=10.0,
+        n_cells=n_cells,
+        dt=dt,
+        t_end=t_end,
+        scheme=Scheme(lam_t=lam_t),
+        stop_at_contact=False,
+        progress=False,
+    )
     warned()
     for trace in (run.u3_end, run.kappa3_left, run.kappa3_right, run.omega3_left):
         assert np.all(np.isfinite(trace))

@@ -188,7 +188,8 @@ def test_presets():
 
 
 # ------------------------------------------------------------------ the mini sweep
-def test_mini_sweep_regression(serial, num_regression):
+def test_mini_sweep_pin_of_our_output(serial, num_regression):
+    """A pin of our own output: the mini sweep's numbers, to catch any change; the onsets' accuracy is checked against converged grids elsewhere."""
     _, table = serial
     assert list(table["a"]) == list(RATES)  # rows in the order of the scenes
     assert not table["cached"].any()
