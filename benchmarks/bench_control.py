@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import statistics
 
-from dyntorsion.buckling import simulation as b
+from dyntorsion import buckling as b
 from dyntorsion.buckling.scene import Scene, simulate_scene
 from dyntorsion.genalpha import Scheme, StepControl
 

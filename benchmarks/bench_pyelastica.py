@@ -46,7 +46,7 @@ import numba
 import numpy as np
 
 from dyntorsion import Rod, __version__
-from dyntorsion.buckling import simulation as b
+from dyntorsion import buckling as b
 
 A_RATE, KAPPA0, SEED = 16.0, 10.0, 1e-8
 SHEAR_FACTOR = 1.0

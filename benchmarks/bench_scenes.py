@@ -20,9 +20,9 @@ import sys
 import time
 
 from dyntorsion import __version__
+from dyntorsion import buckling as b
 from dyntorsion import waves as w
 from dyntorsion.beyond import linear_stability as ls
-from dyntorsion.buckling import simulation as b
 
 
 def main() -> None:

@@ -68,7 +68,7 @@ MEASURE = r"""
 import json, statistics, sys, time
 sys.path.insert(0, sys.argv[1])
 quick = sys.argv[2] == "1"
-from dyntorsion.buckling import simulation as b, sweep as S
+from dyntorsion import buckling as b, sweep as S
 from dyntorsion.beyond.linear_stability import LateralModel
 
 def median(f, n):

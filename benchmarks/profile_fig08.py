@@ -17,9 +17,9 @@ import time
 import numpy as np
 
 from dyntorsion import Rod
+from dyntorsion import buckling as b
 from dyntorsion import genalpha as ga
 from dyntorsion._numba import jit
-from dyntorsion.buckling import simulation as b
 from dyntorsion.buckling.loading import EQ30
 from dyntorsion.genalpha.discrete import factor, residual, setup, solve_neg
 from dyntorsion.model.cosserat import Cosserat

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from dyntorsion import Rod
-from dyntorsion.buckling import simulation as b
+from dyntorsion import buckling as b
 from dyntorsion.genalpha import ConvergenceError
 
 

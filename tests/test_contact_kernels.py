@@ -138,7 +138,7 @@ def test_crossing_kernel_matches_the_vectorised_reference(rng):
 
 def test_kernels_on_a_run_past_the_onset():
     """States of a real whip, level after level: the same contacts and crossings."""
-    from dyntorsion.buckling import simulation as b
+    from dyntorsion import buckling as b
     from dyntorsion.genalpha import Scheme, StepControl
 
     run = b.simulate(

@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 from dyntorsion import Rod
+from dyntorsion import buckling as buckling
 from dyntorsion import genalpha as ga
-from dyntorsion.buckling import simulation as buckling
 from dyntorsion.buckling.postbuckling import GridTooCoarseError, PostBucklingError
 from dyntorsion.buckling.scene import Scene, simulate_scene
 from dyntorsion.model.ends import Ends, IllPosedEndsError

@@ -7,8 +7,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from dyntorsion import buckling as buckling
 from dyntorsion import genalpha as ga
-from dyntorsion.buckling import simulation as buckling
 from dyntorsion.buckling.scene import Scene, run_scene
 from dyntorsion.genalpha.march import closes, make_gate
 from dyntorsion.store.results import digest

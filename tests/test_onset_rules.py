@@ -11,7 +11,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from dyntorsion import Rod
-from dyntorsion.buckling import simulation as b
+from dyntorsion import buckling as b
 from dyntorsion.buckling.onset_rules import RULES, onsets_by_rule, steepest_tangent
 
 

@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
+from dyntorsion import buckling as b
 from dyntorsion import shapes
-from dyntorsion.buckling import simulation as b
 
 
 def test_rodrigues_matches_scipy(rng):

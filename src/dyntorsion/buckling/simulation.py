@@ -2,7 +2,7 @@
 eq 30, or any end set, twist history and axial load of :mod:`dyntorsion.buckling.loading`).
 The onset of buckling lives in :mod:`dyntorsion.buckling.onset`, the delay law (eqs 33-34) in
 :mod:`dyntorsion.buckling.delay_law` and the static critical twist (eqs 31-32) in
-:mod:`dyntorsion.buckling.statics`; all are re-exported here.
+:mod:`dyntorsion.buckling.statics`; the package :mod:`dyntorsion.buckling` re-exports them all.
 """
 
 from __future__ import annotations
@@ -19,34 +19,13 @@ from ..model.cosserat import Cosserat
 from ..model.ends import Ends
 from ..model.ends import ends as _ends
 from ..model.rod import Rod
-from .delay_law import PowerLawFit, fit_power_law
 from .loading import AxialLoad, History, Ramp
-from .onset import STATUSES, Onset, check_window, classify_onset, detect_onset
 from .postbuckling import diagnose
 from .run import BucklingRun
 from .seed import STATED, Perturbation
-from .statics import M_CRI_MP, critical_moment, critical_twist, critical_twist_numerical, m_cri
 from .stops import STRAIGHT, scene_stop
 
-__all__ = [
-    "M_CRI_MP",
-    "m_cri",
-    "critical_moment",
-    "critical_twist",
-    "critical_twist_numerical",
-    "Perturbation",
-    "BucklingRun",
-    "simulate",
-    "GridWarning",
-    "check_grid",
-    "Onset",
-    "detect_onset",
-    "check_window",
-    "classify_onset",
-    "STATUSES",
-    "PowerLawFit",
-    "fit_power_law",
-]
+__all__ = ["simulate", "GridWarning", "check_grid"]
 
 
 class GridWarning(UserWarning):
