@@ -1,5 +1,7 @@
-"""The driver: validation, sources, the initial rate, the recording plan, the chunked
-time march (:mod:`.march`) between checks, and the :class:`Run` it returns."""
+"""The driver: validation, sources, the initial rate and the plan of the run, then chunks
+of steps between checks, each taken by the stepping part (:mod:`.stepping`), kept by the
+recording part (:mod:`.recording`) and followed by the stopping part's checks
+(:mod:`.stopping`); the :class:`Run` they make."""
 
 from __future__ import annotations
 
@@ -11,16 +13,17 @@ from typing import Any
 import numpy as np
 
 from ..model.system import Boundary, System
-from .control import Adaptive
 from .discrete import setup
 from .guard import check_memory, check_time_grid
-from .long import LongPhase
-from .march import NO_GATE, Recording, closed, full_newton_iterations, gauge, march
-from .newton import REASONS, ConvergenceError, Newton, Status
+from .march import full_newton_iterations
+from .newton import Newton
 from .plan import Levels, Plan, Source, gate_of, initial_rate
+from .recording import Recorder
 from .run import Run
 from .scheme import Scheme
-from .watch import NO_WATCH, CompiledStop, never
+from .stepping import Stepper
+from .stopping import Stopper
+from .watch import CompiledStop
 
 __all__ = ["integrate", "newton_iteration_kernel"]
 
@@ -129,83 +132,30 @@ def integrate(
     src = Source.of(s, nf, source, source_field)
     rate0 = initial_rate(system, y0, ds, y_t0, src, t0)
     con, work, fac = setup(system, scheme, n_cells, ds, dt, left, right, y0, rate0)
-    opts = newton.options()
     plan = Plan.of(system, n1, n_steps, t0, dt, record, record_every, snapshots, stop, check_every)
     levels = Levels.of(times, left, right, src)
-
-    rec_t, rec_vals = [t0], [y0[plan.nodes, plan.fields].copy()]
-    snap_t, snap_y = ([t0], [y0.copy()]) if 0 in plan.snap_steps else ([], [])
-    stats = np.zeros((n_steps, 5))
-    adaptive = None
-    if scheme.control is not None:
-        ctx = (con, work, fac, opts)
-        adaptive = Adaptive(scheme.control, system, scheme, ds, dt, left, right, levels, ctx)
+    ctx = (con, work, fac, newton.options())
+    stepper = Stepper(system, scheme, ds, dt, left, right, levels, ctx, t0)
+    recorder = Recorder(plan, times, y0, record_every)
+    stopper = Stopper(stop, gate_of(system, stop_gate, ds, stop), plan, n_steps, work.y_old)
     stopped, failure, done = "t_end", None, 0
-    if progress is None:
-        progress = n_steps * n1 * nf > 5e7
-    bar = None
-    if progress:
-        from tqdm.auto import tqdm
-
-        bar = tqdm(total=n_steps, unit="step", disable=None, leave=False)
-    gate = gate_of(system, stop_gate, ds, stop)
-    test, watch = never, NO_WATCH
-    if isinstance(stop, CompiledStop):
-        test, watch = stop.test, stop.watch(plan.check, n_steps)
-    quiet = gate.limit < math.inf and gauge(work.y_old, gate) < gate.limit
-    long = None
-    if scheme.long_steps is not None:
-        long = LongPhase(scheme.long_steps, system, scheme, ds, dt, left, right, work, t0)
+    bar = _progress_bar(progress, n_steps, n1, nf)
     try:
         k0 = 0
         while k0 < n_steps:
-            k1 = plan.next_end(k0, quiet)
-            in_long = long is not None and long.active
+            k1, in_long = stepper.end(k0, plan.next_end(k0, stopper.quiet), plan)
+            stats = recorder.stats[k0:k1]
+            watched = stopper.watched(in_long)
             if in_long:
-                k_long = long.end(k0, k1, plan.landing(k0))
-                in_long = k_long is not None
-                k1 = k_long if in_long else k1
-            failure = None
-            watched = watch.every > 0 and not quiet and not in_long
-            if in_long:
-                reached = long.chunk(
-                    k0, k1, system, fac, opts, levels, plan, stats[k0:k1], rec_t, rec_vals
-                )
-                completed = reached - k0
+                completed = stepper.long_chunk(k0, k1, plan, stats, recorder.t, recorder.values)
+                failure = None
             else:
-                first_rec = (k0 // record_every + 1) * record_every
-                rec_steps = np.arange(first_rec, k1 + 1, record_every)
-                rec = Recording(
-                    plan.fields,
-                    plan.nodes,
-                    record_every,
-                    k0,
-                    np.zeros((rec_steps.size, len(plan.fields))),
+                rec, steps = recorder.buffer(k0, k1)
+                gate, watch = stopper.for_chunk()
+                completed, failure = stepper.chunk(
+                    k0, k1, rec, stats, gate, stopper.test, watch, times
                 )
-                chunk_gate, chunk_watch = (gate, NO_WATCH) if quiet else (NO_GATE, watch)
-                if adaptive is None:
-                    completed, outcome = march(
-                        system.F, system.dF, test, con, work, fac, opts,
-                        levels.forcing(slice(k0, k1 + 1)), rec, chunk_gate, chunk_watch,
-                        stats[k0:k1],
-                    )  # fmt: skip
-                    if completed < k1 - k0 and outcome.status != Status.CONVERGED:
-                        failure = ConvergenceError(
-                            float(times[k0 + completed + 1]),
-                            k0 + completed + 1,
-                            outcome.corrections,
-                            outcome.residual,
-                            REASONS.get(Status(outcome.status), "unknown")
-                            + " (also after a retry from the other predictor with a fresh "
-                            "Jacobian)",
-                        )
-                else:
-                    completed, failure = adaptive.chunk(
-                        k0, k1, rec, stats[k0:k1], chunk_gate, test, chunk_watch
-                    )
-                kept = rec_steps <= k0 + completed
-                rec_t.extend(t0 + dt * rec_steps[kept])
-                rec_vals.extend(rec.out[kept])
+                recorder.keep(rec, steps, k0 + completed, t0, dt)
             done = k0 + completed
             if failure is not None:
                 stopped = f"failed: {failure}"
@@ -213,36 +163,23 @@ def integrate(
             if bar is not None:
                 bar.update(completed)
             k0 = done
-            if done in plan.snap_steps:
-                snap_t.append(float(times[done]))
-                snap_y.append(work.y_old.copy())
-            if quiet and closed(gate):
-                quiet = False
-            if watched and done % watch.every == 0 and done < n_steps:
-                if stop.fired():  # the march consulted the test at this level
-                    stopped = stop.reason(float(times[done]), stop.state)
-                    break
-                continue
-            due = plan.due(done) or (in_long and done == k1)
-            if stop is not None and done < n_steps and not quiet and due:
-                reason = stop(float(times[done]), work.y_old)
-                if reason:
-                    stopped = str(reason)
-                    break
+            recorder.level(done, work.y_old)
+            reason = stopper.after(done, k1, in_long, watched, float(times[done]), work.y_old)
+            if reason:
+                stopped = reason
+                break
     finally:
         if bar is not None:
             bar.close()
-    rv = np.array(rec_vals).reshape(len(rec_vals), len(plan.fields))
-    substeps = np.ones(done, np.int64) if adaptive is None else adaptive.substeps[:done].copy()
-    if long is not None:
-        substeps = long.substeps(substeps)
-    st = stats[:done]
+    t_rec, traces = recorder.traces()
+    snapshot_times, snapshots = recorder.whole_states(n1, nf)
+    st = recorder.stats[:done]
     result = Run(
         s=s,
-        t=np.array(rec_t),
-        traces={name: rv[:, m].copy() for m, name in enumerate(plan.names)},
-        snapshot_times=np.array(snap_t),
-        snapshots=np.array(snap_y) if snap_y else np.zeros((0, n1, nf)),
+        t=t_rec,
+        traces=traces,
+        snapshot_times=snapshot_times,
+        snapshots=snapshots,
         iterations=st[:, 0].astype(int),
         residual_evaluations=st[:, 1].astype(int),
         factorisations=st[:, 2].astype(int),
@@ -255,8 +192,8 @@ def integrate(
         wall_time=time.perf_counter() - t_start,
         stopped=stopped,
         names=system.names,
-        substeps=substeps,
-        rejections=[] if adaptive is None else list(adaptive.rejections),
+        substeps=stepper.substeps(done),
+        rejections=stepper.rejections,
         meta={
             "n_cells": n_cells,
             "length": length,
@@ -264,8 +201,7 @@ def integrate(
             "t0": t0,
             "t_end": t_end,
             "scheme": scheme.params(),
-            **({} if adaptive is None else {"control": adaptive.summary(done)}),
-            **({} if long is None else {"long_steps": long.summary()}),
+            **stepper.summary(done),
             "newton": newton.__dict__.copy(),
             **(meta or {}),
         },
@@ -274,6 +210,17 @@ def integrate(
         failure.run = result
         raise failure
     return result
+
+
+def _progress_bar(progress: bool | None, n_steps: int, n1: int, nf: int):
+    """A progress bar (None: only for long runs on a terminal), or None."""
+    if progress is None:
+        progress = n_steps * n1 * nf > 5e7
+    if not progress:
+        return None
+    from tqdm.auto import tqdm
+
+    return tqdm(total=n_steps, unit="step", disable=None, leave=False)
 
 
 def newton_iteration_kernel(
