@@ -4,7 +4,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 PY     := $(BIN)/python
 
-.PHONY: test test-all paper docs data bench lint clean distclean site-check
+.PHONY: test test-all paper docs data bench lint clean distclean site-check release-check
 
 $(PY):
 	$(PYTHON) -m venv $(VENV)
@@ -77,6 +77,18 @@ lint: $(VENV)/.lint-installed
 	$(BIN)/ruff check $(LINTED)
 	$(BIN)/ruff format --check $(LINTED)
 	$(BIN)/lint-imports
+
+## release-check: CITATION.cff valid, dependencies declared (deptry), then the wheel and the
+## sdist built, checked, and the wheel installed in a new environment and tried outside the
+## checkout (.ci/wheel-smoke)
+$(VENV)/.release-installed: pyproject.toml | $(PY)
+	$(PY) -m pip install --quiet -e '.[release]'
+	touch $@
+
+release-check: $(VENV)/.release-installed
+	$(BIN)/cffconvert --validate -i CITATION.cff
+	$(BIN)/deptry src
+	bash .ci/wheel-smoke
 
 ## bench: engine benchmarks (timings are printed, never asserted)
 bench: $(VENV)/.test-installed

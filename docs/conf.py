@@ -1,14 +1,18 @@
 """Sphinx configuration of the dyntorsion replication site."""
 
 import sys
-from importlib.metadata import version as _version
 from pathlib import Path
+
+from dyntorsion import __version__
 
 sys.path.insert(0, str(Path(__file__).parent / "_ext"))
 
 project = "dyntorsion"
 author = "The dyntorsion developers"
-release = _version("dyntorsion")
+release = version = __version__
+# the footer: the version on every page, no copyright line without a holder
+copyright = f"the dyntorsion developers · version {__version__} · MIT licence"
+html_show_sphinx = False
 # MathJax is served from the build (sphinx-mathjax-offline bundles MathJax 3): no
 # page loads anything from the network.
 extensions = [
@@ -25,7 +29,7 @@ nb_execution_raise_on_error = True
 nb_execution_timeout = 1800
 exclude_patterns = ["_build", "_ext", "jupyter_execute", "**.ipynb_checkpoints", "site_check.py"]
 html_theme = "alabaster"
-html_title = "dyntorsion"
+html_title = f"dyntorsion {__version__}"
 html_static_path = ["_static"]
 html_css_files = ["site.css"]
 # the body as wide as a 1280 px screen allows, so the equations fit

@@ -6,6 +6,7 @@ import pandas as pd
 import pytest
 
 from dyntorsion.app import glance
+from dyntorsion.store.location import checkout
 
 
 @pytest.fixture(scope="module")
@@ -114,7 +115,7 @@ def test_compact_table_for_the_site(table):
     ]
     # every quantity typeset, every row linked to an existing page of the site
     assert t["quantity"].str.contains(r"\$").all()
-    docs = glance.PAPER.parent / "docs"
+    docs = checkout() / "docs"
     for link in t["evidence"]:
         target = link[link.index("](") + 2 : -1].removeprefix("../")
         assert (docs / target).is_file(), link

@@ -1,10 +1,7 @@
-"""The package's version, defined once (the installed distribution's metadata)."""
+"""The package's version, defined here once: pyproject.toml reads it (``dynamic``),
+``dyntorsion --version`` prints it, every record and every page of the site carry it, and
+a test holds CITATION.cff to it."""
 
-from importlib.metadata import PackageNotFoundError, version
-
-try:
-    __version__ = version("dyntorsion")
-except PackageNotFoundError:  # pragma: no cover - a source tree that was never installed
-    __version__ = "0+unknown"
+__version__ = "0.2.0"
 
 __all__ = ["__version__"]

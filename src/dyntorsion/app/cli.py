@@ -1,4 +1,4 @@
-"""The command line: ``dyntorsion buckle``, ``sweep``, ``linear``, ``fit``.
+"""The command line: ``dyntorsion info``, ``buckle``, ``sweep``, ``linear``, ``fit``.
 
 ``python -m dyntorsion ...`` is the same program.
 """
@@ -6,11 +6,13 @@
 from __future__ import annotations
 
 import argparse
+import os
 import re
 import signal
 import sys
 import threading
 from collections.abc import Sequence
+from pathlib import Path
 
 import numpy as np
 
@@ -245,6 +247,35 @@ def _linear_presets() -> list[str]:
     return list(LINEAR)
 
 
+#: the --store option's help, the same for every subcommand
+STORE_HELP = "cache folder (default: $DYNTORSION_DATA, else the checkout's data/scenes, else the user cache; `dyntorsion info` names it)"
+
+
+def _info(args: argparse.Namespace) -> int:
+    """What this installation is and where it keeps its records."""
+    import platform
+
+    import numba
+
+    from .. import __file__ as package_file
+    from ..store.location import store_origin
+
+    store, why = store_origin()
+    rows = {
+        "dyntorsion": __version__,
+        "package": str(Path(package_file).parent),
+        "store": f"{store} ({why})",
+        "numba cache": os.environ.get("NUMBA_CACHE_DIR")
+        or "beside the package's modules (__pycache__)",
+        "python": f"{platform.python_version()} ({sys.executable})",
+        "numba": numba.__version__,
+    }
+    width = max(map(len, rows))
+    for key, val in rows.items():
+        print(f"{key:<{width}}  {val}")
+    return 0
+
+
 def parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="dyntorsion", description=__doc__.splitlines()[0])
     p.add_argument("--version", action="version", version=f"dyntorsion {__version__}")
@@ -253,13 +284,19 @@ def parser() -> argparse.ArgumentParser:
     )
     sub = p.add_subparsers(dest="command", required=True)
 
+    sub.add_parser(
+        "info", help="version, the default store and why, python and numba"
+    ).set_defaults(func=_info)
+
     b = sub.add_parser("buckle", help="one buckling scene: print t_c and kappa3")
     b.add_argument(
         "--a", type=float, default=None, help="loading rate [rad/(m s)] (ramp histories)"
     )
     add_scene_options(b, kappa0=0.0)
     b.add_argument(
-        "--store", default=None, help="cache folder: read the scene from it, or compute and add it"
+        "--store",
+        default=None,
+        help="cache folder: read the scene from it, or compute and add it; " + STORE_HELP,
     )
     b.add_argument("--on-stale", choices=ON_STALE, default="recompute")
     b.set_defaults(func=_buckle)
@@ -273,9 +310,7 @@ def parser() -> argparse.ArgumentParser:
     )
     s.add_argument("--rates", default=None, help="'0.1,0.4,1.6' or 'geom:LO:HI:N'")
     add_scene_options(s, kappa0=10.0)
-    s.add_argument(
-        "--store", default=None, help="cache folder (default: $DYNTORSION_DATA, else data/scenes)"
-    )
+    s.add_argument("--store", default=None, help=STORE_HELP)
     s.add_argument("--jobs", type=int, default=1, help="local worker processes")
     s.add_argument(
         "--dask-local",
@@ -302,9 +337,7 @@ def parser() -> argparse.ArgumentParser:
         choices=sorted(_linear_presets()),
         help="a named set of predictions (repeatable)",
     )
-    lin.add_argument(
-        "--store", default=None, help="cache folder (default: $DYNTORSION_DATA, else data/scenes)"
-    )
+    lin.add_argument("--store", default=None, help=STORE_HELP)
     lin.add_argument("--jobs", type=int, default=1, help="local worker processes")
     lin.add_argument("--on-stale", choices=ON_STALE, default="recompute")
     lin.add_argument("--quiet", action="store_true", help="no log")
@@ -314,9 +347,7 @@ def parser() -> argparse.ArgumentParser:
         "fit", help="fit eq (33) to cached sweeps: a preset, or every rate sweep in a store"
     )
     f.add_argument("--preset", choices=sorted(PRESETS), default=None)
-    f.add_argument(
-        "--store", default=None, help="cache folder (default: $DYNTORSION_DATA, else data/scenes)"
-    )
+    f.add_argument("--store", default=None, help=STORE_HELP)
     f.set_defaults(func=_fit)
     return p
 

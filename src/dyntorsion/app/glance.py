@@ -1,6 +1,6 @@
 """The replication at a glance: every number the paper states, beside ours.
 
-The paper's values, with where each is stated, live in ``paper/published.json``;
+The paper's values, with where each is stated, live in the package's ``published.json``;
 :func:`ours` computes the matching values (cheap ones directly, the buckling
 numbers from the cached scenes in ``data/``), and :func:`table` puts them side by
 side with the relative difference and a one-line verdict.  :func:`write_numbers`
@@ -21,13 +21,13 @@ from ..buckling.delay_law import fit_power_law
 from ..buckling.simulation import m_cri
 from ..buckling.statics import critical_twist
 from ..model.rod import Rod
-from ..published import PAPER, published
+from ..published import published
+from ..store.location import checkout
 from ..store.results import write_json
 from ..studies.claims import closest
 from ..studies.presets import cached
 
 __all__ = [
-    "PAPER",
     "FIGURE_PAGE",
     "SYMBOL",
     "published",
@@ -257,6 +257,12 @@ def markdown(prefix: str = "") -> str:
 
 
 def write_numbers(path: str | os.PathLike[str] | None = None) -> Path:
-    """Write :func:`table` to ``paper/numbers.json`` (atomically)."""
+    """Write :func:`table` to ``path``, by default the checkout's ``paper/numbers.json``
+    (atomically); an installed package has no checkout and needs ``path``."""
+    if path is None:
+        root = checkout()
+        if root is None:
+            raise ValueError("path=None: an installed package has no paper/ folder; give a path")
+        path = root / "paper" / "numbers.json"
     payload = {"package_version": __version__, "rows": table().to_dict(orient="records")}
-    return write_json(path or PAPER / "numbers.json", payload)
+    return write_json(path, payload)

@@ -13,6 +13,8 @@ from pathlib import Path
 
 import matplotlib
 
+from ..store.location import checkout
+
 #: 150 dpi and no text under 9 pt, as the figures are read on the site
 STYLE = {
     "figure.figsize": (6.0, 3.6),
@@ -70,11 +72,8 @@ def _row_numbers(index) -> bool:
 
 
 def project_root(start: Path | None = None) -> Path | None:
-    here = (start or Path.cwd()).resolve()
-    for d in (here, *here.parents):
-        if (d / "pyproject.toml").is_file() and (d / "src" / "dyntorsion").is_dir():
-            return d
-    return None
+    """The checkout the current folder (or ``start``) lies in, or None."""
+    return checkout(start or Path.cwd())
 
 
 def figure_dir() -> Path | None:

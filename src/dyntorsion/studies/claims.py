@@ -1,7 +1,7 @@
 """Do the paper's dynamic claims hold together?  The fits and the claims of the
 consistency map (issue 19; scenes in :mod:`dyntorsion.studies.consistency`).
 
-The paper's four dynamic claims (values from ``paper/published.json``):
+The paper's four dynamic claims (values from the package's ``published.json``):
 
 1. Fig 8: the onset of the direct run (kappa0 = 0, a = 1.6, rho = 1500) at
    t_c = 20.86 s (kappa3 = 33.38 1/m);
