@@ -352,8 +352,13 @@ def parser() -> argparse.ArgumentParser:
     return p
 
 
+class _Terminated(BaseException):
+    """SIGTERM, raised where the run stands (a BaseException, so that no handler of
+    ordinary errors on the way takes it for a failed run)."""
+
+
 def _terminate(signum, frame) -> None:
-    raise SystemExit(128 + signum)
+    raise _Terminated(signum)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -371,6 +376,14 @@ def main(argv: Sequence[str] | None = None) -> int:
             raise
         print("dyntorsion: interrupted; finished results are kept in the store", file=sys.stderr)
         return EXIT_INTERRUPTED
+    except _Terminated as stop:
+        if debug:
+            raise
+        print(
+            "dyntorsion: terminated (SIGTERM); finished results are kept in the store",
+            file=sys.stderr,
+        )
+        return 128 + stop.args[0]
     except Exception as err:
         if debug:
             raise

@@ -22,7 +22,7 @@ from .recording import Recorder
 from .run import Run
 from .scheme import Scheme
 from .stepping import Stepper
-from .stopping import Stopper
+from .stopping import CHUNK_WORK, Stopper, act_on, deferred_signals
 from .watch import CompiledStop
 
 __all__ = ["integrate", "newton_iteration_kernel"]
@@ -140,37 +140,41 @@ def integrate(
     stopper = Stopper(stop, gate_of(system, stop_gate, ds, stop), plan, n_steps, work.y_old)
     stopped, failure, done = "t_end", None, 0
     bar = _progress_bar(progress, n_steps, n1, nf)
-    try:
-        k0 = 0
-        while k0 < n_steps:
-            k1, in_long = stepper.end(k0, plan.next_end(k0, stopper.quiet), plan)
-            stats = recorder.stats[k0:k1]
-            watched = stopper.watched(in_long)
-            if in_long:
-                completed = stepper.long_chunk(k0, k1, plan, stats, recorder.t, recorder.values)
-                failure = None
-            else:
-                rec, steps = recorder.buffer(k0, k1)
-                gate, watch = stopper.for_chunk()
-                completed, failure = stepper.chunk(
-                    k0, k1, rec, stats, gate, stopper.test, watch, times
-                )
-                recorder.keep(rec, steps, k0 + completed, t0, dt)
-            done = k0 + completed
-            if failure is not None:
-                stopped = f"failed: {failure}"
-                break
+    cap = max(1, CHUNK_WORK // (n1 * nf))  # steps a chunk may take before Python sees a signal
+    with deferred_signals() as caught:
+        try:
+            k0 = 0
+            while k0 < n_steps:
+                k1, in_long = stepper.end(k0, plan.next_end(k0, stopper.quiet), plan)
+                k1 = k1 if in_long else min(k1, k0 + cap)
+                stats = recorder.stats[k0:k1]
+                watched = stopper.watched(in_long)
+                if in_long:
+                    completed = stepper.long_chunk(k0, k1, plan, stats, recorder.t, recorder.values)
+                    failure = None
+                else:
+                    rec, steps = recorder.buffer(k0, k1)
+                    gate, watch = stopper.for_chunk()
+                    completed, failure = stepper.chunk(
+                        k0, k1, rec, stats, gate, stopper.test, watch, times
+                    )
+                    recorder.keep(rec, steps, k0 + completed, t0, dt)
+                done = k0 + completed
+                act_on(caught)
+                if failure is not None:
+                    stopped = f"failed: {failure}"
+                    break
+                if bar is not None:
+                    bar.update(completed)
+                k0 = done
+                recorder.level(done, work.y_old)
+                reason = stopper.after(done, k1, in_long, watched, float(times[done]), work.y_old)
+                if reason:
+                    stopped = reason
+                    break
+        finally:
             if bar is not None:
-                bar.update(completed)
-            k0 = done
-            recorder.level(done, work.y_old)
-            reason = stopper.after(done, k1, in_long, watched, float(times[done]), work.y_old)
-            if reason:
-                stopped = reason
-                break
-    finally:
-        if bar is not None:
-            bar.close()
+                bar.close()
     t_rec, traces = recorder.traces()
     snapshot_times, snapshots = recorder.whole_states(n1, nf)
     st = recorder.stats[:done]

@@ -7,7 +7,10 @@ long chunks until then."""
 from __future__ import annotations
 
 import math
+import signal
+import threading
 from collections.abc import Callable
+from contextlib import contextmanager
 
 import numpy as np
 
@@ -15,7 +18,45 @@ from .march import NO_GATE, Gate, closed, gauge
 from .plan import Plan
 from .watch import NO_WATCH, CompiledStop, never
 
-__all__ = ["Stopper"]
+__all__ = ["Stopper", "deferred_signals", "CHUNK_WORK"]
+
+#: the user's stop signals, deferred while a run's compiled chunks execute
+_DEFERRED = (signal.SIGINT, signal.SIGTERM)
+#: the most work (nodes x fields x steps) one compiled chunk may do before it returns to
+#: Python, where a deferred signal is acted on: about a quarter of a second
+CHUNK_WORK = 2_000_000
+
+
+@contextmanager
+def deferred_signals():
+    """Within the block, SIGINT and SIGTERM only note that they came (the list yielded);
+    :func:`act_on` re-raises the first under the handler that was in force, between two
+    compiled chunks.  A Python-level exception raised while compiled code returns to
+    Python crashed the process (issue 37: Ctrl-C and SIGTERM gave signal 11); a handler
+    that only notes the signal lets the chunk return normally.  Outside the main thread
+    (where handlers cannot be set) nothing changes."""
+    caught: list[int] = []
+    if threading.current_thread() is not threading.main_thread():
+        yield caught
+        return
+    old = {s: signal.signal(s, lambda signum, frame: caught.append(signum)) for s in _DEFERRED}
+    try:
+        yield caught
+    finally:
+        for s, handler in old.items():
+            signal.signal(s, handler)
+        if caught:
+            signal.raise_signal(caught[0])  # now under the handler that was in force
+
+
+def act_on(caught: list[int]) -> None:
+    """Stop the run if a deferred signal came (it is re-raised when the block ends)."""
+    if caught:
+        raise _Interrupted(caught[0])
+
+
+class _Interrupted(Exception):
+    """A deferred stop signal came; :func:`deferred_signals` re-raises it on the way out."""
 
 
 class Stopper:
