@@ -17,7 +17,7 @@ from collections import Counter
 
 from dyntorsion import Rod
 from dyntorsion import genalpha as ga
-from dyntorsion.buckling.simulation import Perturbation
+from dyntorsion.buckling import Perturbation
 from dyntorsion.store import location as L
 from dyntorsion.store import results as R
 from dyntorsion.studies import sweep as S

@@ -20,9 +20,9 @@ import pytest
 from dyntorsion import Rod
 from dyntorsion import waves as W
 from dyntorsion.app.cli import main
+from dyntorsion.buckling import Perturbation, simulate
 from dyntorsion.buckling.delay_law import fit_power_law
 from dyntorsion.buckling.onset import detect_onset
-from dyntorsion.buckling.simulation import Perturbation, simulate
 from dyntorsion.genalpha.guard import BudgetError, StepLongerThanRunError
 from dyntorsion.store import results as R
 from dyntorsion.store.leases import acquire_lease
@@ -242,7 +242,7 @@ def test_sigint_keeps_the_scenes_that_were_running(tmp_path):
 
 SHARED = """
 import sys
-from dyntorsion import sweep as S
+from dyntorsion.studies import sweep as S
 scenes = [S.Scene(a=a, kappa0=10.0, n_cells=12, dt=0.01, t_end=1.5) for a in (16, 17, 18, 19)]
 t = S.run_sweep(scenes, sys.argv[1], progress=False)
 print(int((~t.cached).sum()))
@@ -363,11 +363,12 @@ def test_store_faults_are_one_line_errors(tmp_path, capsys, monkeypatch):
     assert main(fit) == 1
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "stale" in err and str(path) in err
-    rec["result"]["t_c"] = 1.0  # corrupt: hash no longer matches
+    rec["result"]["t_c"] = 1.0  # corrupt: hash no longer matches; fit skips it, says so
     path.write_text(json.dumps(rec))
-    assert main(fit) == 1
+    assert main(fit) == 2
     err = capsys.readouterr().err
-    assert err.count("\n") == 1 and "hash" in err and str(path) in err
+    assert err.count("\n") == 2 and "1 record(s)" in err and "hash" in err and str(path) in err
+    assert "no usable" in err
 
     def full(*a, **k):
         raise OSError(errno.ENOSPC, "No space left on device", str(tmp_path / "x.json"))

@@ -8,7 +8,7 @@ import pytest
 
 from dyntorsion import Rod
 from dyntorsion.beyond import linear_stability as LS
-from dyntorsion.buckling.simulation import M_CRI_MP, Perturbation
+from dyntorsion.buckling import M_CRI_MP, Perturbation
 from dyntorsion.buckling.statics import critical_twist
 from dyntorsion.store import results as R
 from dyntorsion.studies import linear_predictions as LP

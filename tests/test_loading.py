@@ -11,6 +11,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from dyntorsion import Rod
+from dyntorsion.buckling import GridWarning, simulate
 from dyntorsion.buckling.loading import (
     ENDS,
     AxialLoad,
@@ -22,7 +23,6 @@ from dyntorsion.buckling.loading import (
     history_from_params,
 )
 from dyntorsion.buckling.onset import detect_onset
-from dyntorsion.buckling.simulation import GridWarning, simulate
 from dyntorsion.model.ends import Ends, IllPosedEndsError
 from dyntorsion.studies import fidelity
 from dyntorsion.studies import sweep as S

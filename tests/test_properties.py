@@ -24,8 +24,8 @@ from hypothesis import strategies as st
 
 from dyntorsion import Rod
 from dyntorsion import waves as W
+from dyntorsion.buckling import STATUSES, GridWarning, Perturbation, simulate
 from dyntorsion.buckling.delay_law import fit_power_law
-from dyntorsion.buckling.simulation import STATUSES, GridWarning, Perturbation, simulate
 from dyntorsion.studies import sweep as S
 
 FEW = max(3, settings.default.max_examples // 4)  # for examples that run a scene or a process

@@ -77,7 +77,11 @@ def test_edited_record_is_refused(store):
     rec["result"]["kappa3"] = 33.38
     path.write_text(json.dumps(rec))
     with pytest.raises(R.CorruptResultError, match="content hash"):
-        store.load("demo", PARAMS)
+        store.load("demo", PARAMS, on_corrupt="error")
+    said = []
+    assert store.load("demo", PARAMS, say=said.append) is None  # moved aside, to recompute
+    assert not path.exists() and path.with_name(path.name + ".corrupt").exists()
+    assert len(said) == 1 and "moved aside" in said[0] and "content hash" in said[0]
 
 
 @pytest.mark.parametrize(

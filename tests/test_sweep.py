@@ -12,8 +12,8 @@ import pytest
 from dyntorsion import Rod
 from dyntorsion import genalpha as ga
 from dyntorsion.app.cli import main
+from dyntorsion.buckling import Perturbation
 from dyntorsion.buckling.delay_law import paper_law
-from dyntorsion.buckling.simulation import Perturbation
 from dyntorsion.buckling.statics import critical_twist
 from dyntorsion.store import results as R
 from dyntorsion.studies import presets as P

@@ -21,7 +21,7 @@ from ..buckling.delay_law import fit_power_law
 from ..buckling.scene import Scene, run_scene
 from ..published import value
 from ..store.location import default_store
-from ..store.results import ON_STALE, Store
+from ..store.results import ON_CORRUPT, ON_STALE, Store
 from ..studies.presets import PRESETS, cached, preset
 from ..studies.sweep import KIND, run_sweep
 from .cli_options import add_scene_options, parse_rates, scene_from
@@ -57,10 +57,12 @@ def _buckle(args: argparse.Namespace) -> int:
 def _sweep_scenes(args: argparse.Namespace) -> list[Scene]:
     if args.preset:
         if args.rates:
-            raise SystemExit("give either --preset or --rates, not both")
+            raise ValueError("--preset and --rates: give one of them, not both")
         return [sc for name in args.preset for sc in preset(name)]
     if not args.rates:
-        raise SystemExit("give --rates (e.g. 0.1,0.4,1.6 or geom:0.05:16:12) or --preset")
+        raise ValueError(
+            "--rates or --preset: give one (e.g. --rates 0.1,0.4,1.6 or geom:0.05:16:12)"
+        )
     return [scene_from(args, a) for a in parse_rates(args.rates)]
 
 
@@ -162,7 +164,13 @@ def _sweep(args: argparse.Namespace) -> int:
                 "--scheduler/--dask-local need dask.distributed: pip install 'dyntorsion[parallel]'"
             ) from err
         if args.scheduler:
-            client = Client(args.scheduler)
+            try:
+                client = Client(args.scheduler, timeout="20s")
+            except OSError as err:
+                raise ConnectionError(
+                    f"--scheduler {args.scheduler}: no dask scheduler answered ({err}); check the "
+                    "address and that the scheduler is running"
+                ) from None
         else:
             cluster = LocalCluster(n_workers=args.dask_local, threads_per_worker=1)
             client = Client(cluster)
@@ -174,6 +182,7 @@ def _sweep(args: argparse.Namespace) -> int:
             executor=executor,
             jobs=args.jobs,
             on_stale=args.on_stale,
+            on_corrupt=args.on_corrupt,
             progress=not args.quiet,
             log=None if args.quiet else _log,
         )
@@ -233,9 +242,21 @@ def _fit(args: argparse.Namespace) -> int:
         table = cached(args.preset, args.store)
     else:
         store = Store(args.store or default_store())
-        scenes = [Scene.from_params(rec["params"]) for rec in store.records(KIND)]
+        skipped: list = []
+        scenes = []
+        for rec in store.records(KIND, skipped=skipped):
+            try:
+                scenes.append(Scene.from_params(rec["params"]))
+            except (ValueError, TypeError, KeyError) as err:
+                skipped.append(err)
+        if skipped:
+            print(
+                f"fit: {len(skipped)} record(s) of {store.root} skipped (damaged, or a scene "
+                f"this package cannot rebuild, e.g. a custom history): {skipped[0]}",
+                file=sys.stderr,
+            )
         if not scenes:
-            raise ValueError(f"--store {args.store}: no {KIND} records to fit")
+            raise ValueError(f"--store {store.root}: no usable {KIND} records to fit")
         table = run_sweep(scenes, args.store, compute=False, on_stale="error", progress=False)
     _print_fit(_fit_rows(table, scenes))
     return 0
@@ -274,6 +295,10 @@ def _info(args: argparse.Namespace) -> int:
     for key, val in rows.items():
         print(f"{key:<{width}}  {val}")
     return 0
+
+
+#: argparse takes "-1e9" for an option; a number in any float notation is a value
+_NEGATIVE_NUMBER = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$")
 
 
 def parser() -> argparse.ArgumentParser:
@@ -323,6 +348,12 @@ def parser() -> argparse.ArgumentParser:
         "--scheduler", default=None, help="address of a running dask.distributed scheduler"
     )
     s.add_argument("--on-stale", choices=ON_STALE, default="recompute")
+    s.add_argument(
+        "--on-corrupt",
+        choices=ON_CORRUPT,
+        default="quarantine",
+        help="a damaged record: move it aside (.corrupt) and recompute, or stop with an error",
+    )
     s.add_argument("--quiet", action="store_true", help="no progress bar or log")
     s.set_defaults(func=_sweep)
 
@@ -349,6 +380,8 @@ def parser() -> argparse.ArgumentParser:
     f.add_argument("--preset", choices=sorted(PRESETS), default=None)
     f.add_argument("--store", default=None, help=STORE_HELP)
     f.set_defaults(func=_fit)
+    for each in (p, *sub.choices.values()):
+        each._negative_number_matcher = _NEGATIVE_NUMBER
     return p
 
 

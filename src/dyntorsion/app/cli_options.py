@@ -164,10 +164,15 @@ def history_from(args: argparse.Namespace, a: float | None) -> dict:
     if kind == "ramp-hold":
         if a is None:
             raise ValueError("--history ramp-hold needs the loading rate --a")
-        vals = parse_numbers(rest, None, "--history ramp-hold:HOLD[:TAU]".replace(":TAU]", "]"))
+        vals = parse_numbers(rest.replace(":", ","), None, "--history ramp-hold:HOLD[:TAU]")
         if len(vals) not in (1, 2):
-            raise ValueError("--history ramp-hold:HOLD[,TAU] takes one or two numbers")
+            raise ValueError("--history ramp-hold:HOLD[:TAU] takes one or two numbers")
         return {"history": RampHold(a, vals[0], args.kappa0, *vals[1:])}
+    if a is not None:
+        raise ValueError(
+            f"--history {kind}: --a and --rates set the rate of a ramp, and this history fixes "
+            "its own end twist; drop --a/--rates, or use --history ramp or ramp-hold"
+        )
     if kind == "poly":
         return {"history": Polynomial(tuple(parse_numbers(rest, None, "--history poly")))}
     if kind == "table":
@@ -179,7 +184,7 @@ def history_from(args: argparse.Namespace, a: float | None) -> dict:
             ) from None
         return {"history": Tabulated(tuple(t), tuple(k))}
     raise ValueError(
-        f"--history={args.history!r}; allowed: ramp, ramp-hold:HOLD[,TAU], poly:C0,C1,..., table:FILE"
+        f"--history={args.history!r}; allowed: ramp, ramp-hold:HOLD[:TAU], poly:C0,C1,..., table:FILE"
     )
 
 

@@ -28,6 +28,8 @@ def describe(err: BaseException) -> tuple[str, int]:
         return text, EXIT_FAILED
     if isinstance(err, ConvergenceError):
         return f"{text}; refine --dt or change the Newton options", EXIT_FAILED
+    if isinstance(err, ConnectionError):
+        return text, EXIT_FAILED
     if isinstance(err, OSError):
         where = f" {err.filename}" if err.filename else ""
         what = err.strerror or text

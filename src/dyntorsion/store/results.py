@@ -30,6 +30,7 @@ import json
 import math
 import os
 import platform
+import sys
 import tempfile
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
@@ -43,6 +44,10 @@ SCHEMA = 1
 
 
 ON_STALE = ("recompute", "error", "accept")
+#: what :meth:`Store.load` does with a damaged record: move it aside and recompute, or raise
+ON_CORRUPT = ("quarantine", "error")
+#: the suffix of a damaged record moved aside
+CORRUPT_SUFFIX = ".corrupt"
 
 
 class StaleResultError(RuntimeError):
@@ -182,8 +187,12 @@ class Store:
         path = Path(path)
         try:
             record = json.loads(path.read_text())
-        except (OSError, json.JSONDecodeError) as err:
+        except (OSError, json.JSONDecodeError, UnicodeDecodeError) as err:
             raise CorruptResultError(f"{path}: unreadable record ({err})") from err
+        if not isinstance(record, dict) or not isinstance(record.get("params"), dict):
+            raise CorruptResultError(
+                f"{path}: not a record (a JSON {type(record).__name__} without params)"
+            )
         expected = digest({k: record.get(k) for k in ("kind", "params", "result")})
         if record.get("hash") != expected:
             raise CorruptResultError(
@@ -210,16 +219,39 @@ class Store:
             )
         return "; ".join(reasons) or None
 
+    def quarantine(self, path: Path, why: str, say=print) -> Path:
+        """Move a damaged record aside (``<name>.corrupt``, kept for inspection), saying so
+        in one line; the record is then computed again."""
+        aside = path.with_name(path.name + CORRUPT_SUFFIX)
+        os.replace(path, aside)
+        say(f"damaged record moved aside to {aside.name} and recomputed: {why}")
+        return aside
+
     def load(
-        self, kind: str, params: Mapping[str, Any], on_stale: str = "recompute"
+        self,
+        kind: str,
+        params: Mapping[str, Any],
+        on_stale: str = "recompute",
+        on_corrupt: str = "quarantine",
+        say=None,
     ) -> dict[str, Any] | None:
-        """The record for (kind, params), or None if it must be computed."""
+        """The record for (kind, params), or None if it must be computed.  A damaged one is
+        moved aside (``on_corrupt="quarantine"``, then None) or raises
+        (``"error"``: :class:`CorruptResultError`)."""
         if on_stale not in ON_STALE:
             raise ValueError(f"on_stale={on_stale!r}; allowed: {', '.join(ON_STALE)}")
+        if on_corrupt not in ON_CORRUPT:
+            raise ValueError(f"on_corrupt={on_corrupt!r}; allowed: {', '.join(ON_CORRUPT)}")
         path = self.path(kind, params)
         if not path.exists():
             return None
-        record = self.read(path)
+        try:
+            record = self.read(path)
+        except CorruptResultError as err:
+            if on_corrupt == "error":
+                raise
+            self.quarantine(path, str(err), say or (lambda msg: print(msg, file=sys.stderr)))
+            return None
         if canonical(record["params"]) != canonical(params):
             raise StaleResultError(
                 f"{path}: its parameters differ from the request (hash collision or a renamed file)"
@@ -234,8 +266,16 @@ class Store:
             )
         return None
 
-    def records(self, kind: str | None = None) -> Iterator[dict[str, Any]]:
-        """Every record in the folder (of one kind), hashes checked."""
+    def records(
+        self, kind: str | None = None, skipped: list | None = None
+    ) -> Iterator[dict[str, Any]]:
+        """Every record in the folder (of one kind), hashes checked; with a list
+        ``skipped``, damaged records are left out and their errors appended to it."""
         pattern = f"{kind}-*.json" if kind else "*.json"
         for path in sorted(self.root.glob(pattern)):
-            yield self.read(path)
+            try:
+                yield self.read(path)
+            except CorruptResultError as err:
+                if skipped is None:
+                    raise
+                skipped.append(err)

@@ -43,6 +43,7 @@ class MapOptions(TypedDict, total=False):
     compute: bool
     progress: bool | None
     log: Callable[[str], None] | None
+    on_corrupt: str
 
 
 WAIT_POLL_S = 0.5
@@ -104,6 +105,7 @@ def cached_map(
     executor: cf.Executor | None = None,
     jobs: int = 1,
     on_stale: str = "recompute",
+    on_corrupt: str = "quarantine",
     compute: bool = True,
     progress: bool | None = None,
     log: Callable[[str], None] | None = None,
@@ -130,7 +132,7 @@ def cached_map(
     records: dict[int, tuple[dict[str, Any], bool]] = {}
     todo: list[int] = []
     for i, item in enumerate(items):
-        rec = store.load(kind, item.params(), on_stale=on_stale)
+        rec = store.load(kind, item.params(), on_stale=on_stale, on_corrupt=on_corrupt, say=log)
         if rec is None:
             if store.path(kind, item.params()).exists():
                 say(f"stale, recomputing: {item.label()}")
@@ -181,7 +183,7 @@ class _Sweep:
         lease = self.store.lease(self.kind, params)
         if lease is None:
             return False
-        rec = self.store.load(self.kind, params, on_stale=self.on_stale)
+        rec = self.store.load(self.kind, params, on_stale=self.on_stale, on_corrupt="error")
         if rec is not None:  # written by the other sweep meanwhile
             lease.release()
             self.records[i] = (rec, True)
@@ -195,7 +197,9 @@ class _Sweep:
         """Take the records other sweeps have written; claim those they abandoned."""
         for _ in range(len(waiting)):
             i = waiting.popleft()
-            rec = self.store.load(self.kind, self.items[i].params(), on_stale=self.on_stale)
+            rec = self.store.load(
+                self.kind, self.items[i].params(), on_stale=self.on_stale, on_corrupt="error"
+            )
             if rec is not None:
                 self.records[i] = (rec, True)
                 if self.bar is not None:

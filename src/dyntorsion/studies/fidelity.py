@@ -9,7 +9,8 @@ time of each preset are on the "Accuracy and cost" page of the documentation
 ladder for the buckling onset).  An explicit :class:`Fidelity` is accepted
 wherever a preset name is::
 
-    from dyntorsion import fidelity, buckling
+    from dyntorsion import buckling
+    from dyntorsion.studies import fidelity
     f = fidelity.get("buckling", "quick")            # or Fidelity(n_cells=80, dt=0.004)
     run = buckling.simulate(a=1.6, t_end=30.0, **f.simulate_kwargs())
 

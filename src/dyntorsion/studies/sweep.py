@@ -103,6 +103,12 @@ def run_sweep(
     :meth:`~dyntorsion.store.results.Store.load`; ``compute=False`` only reads, and
     raises :class:`MissingResultError` for any scene the store lacks.
     """
+    bad = [s for s in scenes if not isinstance(s, Scene)]
+    if bad:
+        raise TypeError(
+            f"scenes must be Scene objects (dyntorsion.buckling.scene.Scene); got "
+            f"{type(bad[0]).__name__} {bad[0]!r}: build them with Scene(a=...)"
+        )
     records = cached_map(
         scenes,
         run_scene,
