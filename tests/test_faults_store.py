@@ -96,3 +96,18 @@ def test_the_help_and_the_parser_agree_on_ramp_hold():
 def test_negative_numbers_in_exponent_form_are_values():
     args = parser().parse_args(["buckle", "--a", "1.6", "--tension", "-1e9"])
     assert args.tension == -1e9
+
+
+def test_a_history_below_kappa_cri_is_an_answer_not_a_failure(capsys):
+    argv = ["buckle", "--a", "1.6", "--history", "ramp-hold:10:0.5", "--t-end", "12"]
+    assert main([*argv, "--n-cells", "20", "--dt", "0.02"]) == 0
+    out = capsys.readouterr().out
+    assert "no onset: the end twist stays below kappa_cri" in out and "increase t_end" not in out
+
+
+def test_buckle_says_when_it_served_a_cached_record(tmp_path, capsys):
+    argv = ["buckle", "--a", "16", *QUICK, "--store", str(tmp_path)]
+    assert main(argv) == 0
+    assert "cached" not in capsys.readouterr().out
+    assert main(argv) == 0
+    assert "read from" in capsys.readouterr().out

@@ -28,6 +28,11 @@ from .cli_options import add_scene_options, parse_rates, scene_from
 from .faults import EXIT_INTERRUPTED, describe
 
 
+def _peak_twist(scene: Scene) -> float:
+    """The largest |kappa3(0, t)| the scene's history imposes over its run."""
+    return float(np.max(np.abs(scene.twist(np.linspace(0.0, scene.duration(), 4001)))))
+
+
 def _buckle(args: argparse.Namespace) -> int:
     scene = scene_from(args, args.a)
     if args.store:
@@ -36,12 +41,25 @@ def _buckle(args: argparse.Namespace) -> int:
     else:
         row = run_scene(scene)
     try:
-        kc = f"{scene.kappa_cri():.4f}"
+        kappa_cri = scene.kappa_cri()
+        kc = f"{kappa_cri:.4f}"
     except ValueError:
-        kc = "not covered by the static theory"
+        kappa_cri, kc = None, "not covered by the static theory"
     print(f"scene      {scene.label()}")
+    if row.get("cached"):
+        print(
+            f"cached     read from {args.store}, not recomputed (--on-stale recompute to redo a stale one)"
+        )
     print(f"stopped    {row['stopped']}")
     print(f"status     {row['status']}")
+    if row["status"] == "no-onset" and row["stopped"] == "t_end" and kappa_cri is not None:
+        peak = _peak_twist(scene)
+        if peak < kappa_cri:
+            print(
+                f"no onset: the end twist stays below kappa_cri = {kc} 1/m (at most "
+                f"{peak:.4f} 1/m), so the straight rod is stable: no buckling to find"
+            )
+            return 0
     if row["status"] != "buckled":
         why = row.get("onset_error") or "no onset detected before the run ended"
         print(why if row["status"] != "forced" else f"{why} (t_c is no critical time)")

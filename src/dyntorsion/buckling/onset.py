@@ -39,7 +39,7 @@ PEAK_FALL = 0.7
 
 
 def reference_level(rod: Rod) -> float:
-    """u_ref = L / T0 [m/s] (T0 = L^2 sqrt(rho A / B1) the bending time scale): the level of
+    """u_ref = L / T0 [m/s] (T0 = L^2 sqrt(rho A / B), B = min(B1, B2), the bending time scale): the level of
     ``|u3(L, t)|`` at which the rise to the onset starts, far above the prebuckling level
     and far below the first peak (0.023 m/s for Table 1)."""
     return rod.L / rod.T0
@@ -128,7 +128,7 @@ def detect_onset(
     (kappa0 + a t_c for the paper's ramp).
 
     Window rule (deterministic): ``U = |u3(L, t)|``.  The rise starts when U first
-    exceeds ``u_ref`` (default L / T0, T0 = L^2 sqrt(rho A / B1) the bending time
+    exceeds ``u_ref`` (default L / T0, T0 = L^2 sqrt(rho A / min(B1, B2)) the bending time
     scale: 0.023 m/s for Table 1, far above the prebuckling level and far below
     the first peak); its peak U_peak is the running maximum of U at the first
     later sample where U has fallen below :data:`PEAK_FALL` (0.7) of that running

@@ -39,6 +39,7 @@ from typing import Any
 
 from .fingerprint import code_of
 from .leases import TMP_SUFFIX, Lease, _owner, acquire_lease, clean_leftovers
+from .location import DATA
 
 SCHEMA = 1
 
@@ -260,10 +261,12 @@ class Store:
         if why is None or on_stale == "accept":
             return record
         if on_stale == "error":
-            raise StaleResultError(
-                f"{path} is stale: {why}. Recompute it with `make data` "
-                "(or the sweep command with --on-stale recompute)"
+            how = (
+                "`make data` in the checkout"
+                if DATA is not None and self.root.resolve() == DATA.resolve()
+                else f"the command that wrote it, with --on-stale recompute (store {self.root})"
             )
+            raise StaleResultError(f"{path} is stale: {why}. Recompute it with {how}")
         return None
 
     def records(
