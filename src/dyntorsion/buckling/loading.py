@@ -16,9 +16,11 @@ canonical form, part of the cache key) and is evaluated on arrays of times.
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import inspect
 import math
+import textwrap
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
@@ -190,11 +192,106 @@ class Tabulated(History):
         return {"kind": "tabulated", "t": list(self.t), "kappa": list(self.kappa)}
 
 
+_PLAIN = (bool, int, float, complex, str, bytes, type(None))
+
+
+def function_fingerprint(func: Any, _seen: set[int] | None = None) -> str:
+    """Everything a history function computes with, as text: its source; for a
+    ``functools.partial`` the function and the bound values; the values in its closure,
+    the module globals its code names and its defaults, each by value (numbers, strings,
+    arrays, tuples) or, for a function of its own, recursively.  Library modules and
+    their functions count by name.  Raises ValueError naming what cannot be fingerprinted
+    (a function without readable source, an object without a stable value)."""
+    seen = set() if _seen is None else _seen
+    if id(func) in seen:
+        return "<recursion>"
+    seen.add(id(func))
+    if isinstance(func, functools.partial):
+        bound = (func.args, sorted(func.keywords.items()))
+        return f"partial({function_fingerprint(func.func, seen)}, {_value(bound, seen)})"
+    code = getattr(func, "__code__", None)
+    if code is None:
+        raise ValueError(f"func={func!r}: not a Python function, its code cannot be fingerprinted")
+    try:
+        source = textwrap.dedent(inspect.getsource(func))
+    except (OSError, TypeError):
+        raise ValueError(
+            f"func={getattr(func, '__qualname__', func)!r} has no readable source (defined in "
+            "exec or python -c?): it cannot be keyed in the store; define it in a file, or "
+            "pass its values as parameters=..."
+        ) from None
+    parts = [source]
+    names = {n for c in _codes(code) for n in c.co_names}
+    env = getattr(func, "__globals__", {})
+    for name in sorted(names & set(env)):
+        parts.append(f"global {name} = {_value(env[name], seen)}")
+    for name, cell in zip(code.co_freevars, func.__closure__ or (), strict=True):
+        try:
+            parts.append(f"closure {name} = {_value(cell.cell_contents, seen)}")
+        except ValueError as err:  # an empty cell
+            raise ValueError(
+                f"func={func.__qualname__!r}: closure {name} is unset ({err})"
+            ) from None
+    parts.append(f"defaults {_value(func.__defaults__, seen)} {_value(func.__kwdefaults__, seen)}")
+    return "\n".join(parts)
+
+
+def _codes(code):
+    yield code
+    for const in code.co_consts:
+        if inspect.iscode(const):
+            yield from _codes(const)
+
+
+def _value(obj: Any, seen: set[int]) -> str:
+    if isinstance(obj, _PLAIN):
+        return repr(obj)
+    if isinstance(obj, np.ndarray):
+        return f"array{obj.shape}{obj.dtype}:{hashlib.sha256(np.ascontiguousarray(obj).tobytes()).hexdigest()}"
+    if isinstance(obj, np.generic):
+        return repr(obj.item())
+    if isinstance(obj, tuple | list):
+        return type(obj).__name__ + "(" + ", ".join(_value(v, seen) for v in obj) + ")"
+    if isinstance(obj, dict):
+        return (
+            "dict("
+            + ", ".join(f"{_value(k, seen)}: {_value(v, seen)}" for k, v in obj.items())
+            + ")"
+        )
+    if inspect.ismodule(obj):
+        return f"module {obj.__name__}"
+    module = getattr(obj, "__module__", None) or ""
+    if callable(obj) and not _user_code(obj):
+        return f"{module}.{getattr(obj, '__qualname__', type(obj).__name__)}"
+    if inspect.isfunction(obj) or isinstance(obj, functools.partial):
+        return function_fingerprint(obj, seen)
+    if isinstance(obj, History):
+        return repr(obj.params())
+    text = repr(obj)
+    if " at 0x" in text:
+        raise ValueError(f"{text}: no stable value to key a custom history by")
+    return text
+
+
+def _user_code(obj: Any) -> bool:
+    """A function of the user's own (not of an installed library or of Python)."""
+    if isinstance(obj, functools.partial):
+        return True
+    if not inspect.isfunction(obj):
+        return False
+    module = inspect.getmodule(obj)
+    path = getattr(module, "__file__", None) or ""
+    return not any(part in path for part in ("site-packages", "dist-packages", "/lib/python"))
+
+
 @dataclass(frozen=True)
 class Custom(History):
     """Any callable ``func(t, **parameters)`` (vectorised over t), under a ``name``.
-    The cache key holds the name, the parameters and a hash of the function's source,
-    so an edited function is not served another function's records."""
+    The cache key holds the name, the parameters and a hash of everything the function
+    computes with (its source, the values in its closure, the globals it names, its
+    default arguments and the functions it calls; :func:`function_fingerprint`), so a
+    changed function or value is not served another one's records.  A function that
+    cannot be fingerprinted (no readable source) is refused."""
 
     name: str
     func: Callable[..., np.ndarray] = field(compare=False)
@@ -216,19 +313,22 @@ class Custom(History):
         return np.broadcast_to(out, np.shape(t)).astype(float)
 
     def source_hash(self) -> str:
-        try:
-            src = inspect.getsource(self.func)
-        except (OSError, TypeError):
-            src = getattr(self.func, "__qualname__", repr(self.func))
-        return hashlib.sha256(src.encode()).hexdigest()[:16]
+        """A hash of everything ``func`` computes with (:func:`function_fingerprint`);
+        ValueError when that cannot be known."""
+        return hashlib.sha256(function_fingerprint(self.func).encode()).hexdigest()[:16]
 
     def params(self) -> dict[str, Any]:
-        return {
-            "kind": "custom",
-            "name": self.name,
-            "parameters": dict(self.parameters),
-            "source": self.source_hash(),
-        }
+        """The history's key.  A function that cannot be fingerprinted still runs, but its
+        key says so (``unkeyed``) and the store refuses to cache it."""
+        try:
+            source, why = self.source_hash(), None
+        except ValueError as err:
+            source, why = None, str(err)
+        out = {"kind": "custom", "name": self.name, "parameters": dict(self.parameters)}
+        out["source"] = source
+        if why is not None:
+            out["unkeyed"] = why
+        return out
 
 
 def history_from_params(p: Mapping[str, Any]) -> History:

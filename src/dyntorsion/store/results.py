@@ -83,8 +83,23 @@ def digest(obj: Any) -> str:
 
 
 def key(kind: str, params: Mapping[str, Any]) -> str:
-    """File name stem of a record: 20 hex digits of the hash of (kind, params)."""
+    """File name stem of a record: 20 hex digits of the hash of (kind, params).  Params
+    that say they are ``unkeyed`` (somewhere inside: a part that cannot be known by value)
+    are refused: a record under them could be served for another computation."""
+    why = _unkeyed(params)
+    if why:
+        raise ValueError(f"this {kind} cannot be cached: {why}")
     return digest({"kind": kind, "params": params})[:20]
+
+
+def _unkeyed(obj: Any) -> str | None:
+    if isinstance(obj, Mapping):
+        if obj.get("unkeyed"):
+            return str(obj["unkeyed"])
+        return next((w for w in map(_unkeyed, obj.values()) if w), None)
+    if isinstance(obj, list | tuple):
+        return next((w for w in map(_unkeyed, obj) if w), None)
+    return None
 
 
 def provenance(wall_time: float | None = None, kind: str | None = None) -> dict[str, Any]:
