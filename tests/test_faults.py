@@ -24,6 +24,7 @@ from dyntorsion.buckling import Perturbation, simulate
 from dyntorsion.buckling.delay_law import fit_power_law
 from dyntorsion.buckling.onset import detect_onset
 from dyntorsion.genalpha.guard import BudgetError, StepLongerThanRunError
+from dyntorsion.store import leases as L
 from dyntorsion.store import results as R
 from dyntorsion.store.leases import acquire_lease
 from dyntorsion.studies import sweep as S
@@ -265,18 +266,68 @@ def test_two_sweeps_on_one_store_share_the_work(tmp_path):
     assert len(list(store.glob("buckling-onset-*.json"))) == 4
 
 
+def _lease(record, owner, start=None, age=0.0):
+    path = Path(f"{record}.lease")
+    path.write_text(json.dumps({"owner": owner, "start": start, "taken": time.time() - age}))
+    if age:
+        os.utime(path, (time.time() - age, time.time() - age))
+    return path
+
+
+def _empty_lease(record):
+    path = Path(f"{record}.lease")
+    path.write_bytes(b"")  # the disk filled while it was written
+    return path
+
+
 def test_lease_of_a_dead_holder_is_taken_over(tmp_path):
     record = tmp_path / "x.json"
-    lease = acquire_lease(record)
-    assert lease is not None and acquire_lease(record) is not None  # our own
+    said = []
+    lease = acquire_lease(record, say=said.append)
+    assert lease is not None and acquire_lease(record, say=said.append) is not None  # our own
     lease.release()
     host = R._owner().rpartition("-")[0]
-    Path(f"{record}.lease").write_text(f"{host}-{os.getppid()}")  # a live other process
-    assert acquire_lease(record) is None
+    parent = os.getppid()
+    _lease(record, f"{host}-{parent}", L._started(parent))  # a live other process
+    assert acquire_lease(record, say=said.append) is None and not said
     dead = subprocess.Popen([sys.executable, "-c", "pass"])
     dead.wait()
-    Path(f"{record}.lease").write_text(f"{host}-{dead.pid}")
-    assert acquire_lease(record) is not None
+    _lease(record, f"{host}-{dead.pid}")
+    assert acquire_lease(record, say=said.append) is not None
+    assert len(said) == 1 and "no longer running" in said[0]
+
+
+@pytest.mark.parametrize(
+    "make, words",
+    [
+        (lambda record, host: _empty_lease(record), "unreadable"),
+        # the pid of a live process, but not the process that took the lease
+        (
+            lambda record, host: _lease(record, f"{host}-{os.getppid()}", start=-1.0),
+            "another process",
+        ),
+        # another machine's lease whose heartbeat stopped
+        (
+            lambda record, host: _lease(record, "elsewhere-123", age=L.STALE_AFTER_S + 5),
+            "heartbeat",
+        ),
+    ],
+)
+def test_a_stale_or_unreadable_lease_is_broken_with_one_line(tmp_path, make, words):
+    record = tmp_path / "x.json"
+    path = make(record, R._owner().rpartition("-")[0])
+    if "heartbeat" not in words:  # old enough not to be a lease being written
+        os.utime(path, (time.time() - L.WRITING_S - 1,) * 2)
+    said = []
+    assert acquire_lease(record, say=said.append) is not None
+    assert len(said) == 1 and words in said[0] and path.name in said[0]
+
+
+def test_a_live_foreign_lease_holds_and_names_its_holder(tmp_path):
+    record = tmp_path / "x.json"
+    path = _lease(record, "elsewhere-123")
+    assert acquire_lease(record, say=pytest.fail) is None
+    assert L.holder_of(path).startswith("elsewhere-123 since ")
 
 
 def test_leftover_temporary_files_of_killed_writers_are_removed(tmp_path):

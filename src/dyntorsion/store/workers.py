@@ -27,6 +27,7 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any, TypedDict
 
+from .leases import LEASE_SUFFIX, holder_of
 from .results import Store
 
 __all__ = ["MapOptions", "cached_map", "MissingResultError", "WAIT_POLL_S"]
@@ -160,6 +161,7 @@ class _Sweep:
         self.items, self.run, self.kind, self.store = items, run, kind, store
         self.records, self.say, self.show, self.on_stale = records, say, show, on_stale
         self.leases: dict[int, Any] = {}
+        self.announced: set[int] = set()
         self.bar = None
 
     def finish(self, i: int, result: dict[str, Any], wall: float) -> None:
@@ -182,6 +184,10 @@ class _Sweep:
         params = self.items[i].params()
         lease = self.store.lease(self.kind, params)
         if lease is None:
+            if i not in self.announced:  # once: what it waits for, held by whom since when
+                self.announced.add(i)
+                held = Path(f"{self.store.path(self.kind, params)}{LEASE_SUFFIX}")
+                self.say(f"waiting for {self.items[i].label()}: held by {holder_of(held)}")
             return False
         rec = self.store.load(self.kind, params, on_stale=self.on_stale, on_corrupt="error")
         if rec is not None:  # written by the other sweep meanwhile
