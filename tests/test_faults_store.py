@@ -111,3 +111,28 @@ def test_buckle_says_when_it_served_a_cached_record(tmp_path, capsys):
     assert "cached" not in capsys.readouterr().out
     assert main(argv) == 0
     assert "read from" in capsys.readouterr().out
+
+
+def test_a_run_past_the_time_budget_is_refused_before_it_starts(capsys, monkeypatch):
+    import warnings
+
+    monkeypatch.delenv("DYNTORSION_MAX_TIME", raising=False)  # --max-time sets it
+    argv = ["--max-time", "60", "buckle", "--a", "1.6", "--n-cells", "100000", "--dt", "0.005"]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the GridWarning of a grid this fine
+        assert main(argv) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "over the budget of 60 s" in err[0] and "raise dt" in err[0]
+
+
+def test_a_long_run_is_announced_with_its_estimate(monkeypatch):
+    from dyntorsion.genalpha import guard
+
+    monkeypatch.delenv("DYNTORSION_MAX_TIME", raising=False)
+    said = []
+    assert guard.check_time(10, 101, 12, say=said.append) < guard.ANNOUNCE_AFTER_S and not said
+    guard.check_time(10**6, 1001, 12, say=said.append)
+    assert len(said) == 1 and "may take up to" in said[0]
+    monkeypatch.setenv("DYNTORSION_MAX_TIME", "-3")
+    with pytest.raises(ValueError, match="DYNTORSION_MAX_TIME"):
+        guard.max_time()

@@ -325,6 +325,13 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--debug", action="store_true", help="show the traceback of an error (anywhere on the line)"
     )
+    p.add_argument(
+        "--max-time",
+        type=float,
+        default=None,
+        metavar="S",
+        help="refuse a run estimated longer than S seconds (default: $DYNTORSION_MAX_TIME, else 6 h)",
+    )
     sub = p.add_subparsers(dest="command", required=True)
 
     sub.add_parser(
@@ -418,6 +425,14 @@ def main(argv: Sequence[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     debug = "--debug" in argv
     args = parser().parse_args([a for a in argv if a != "--debug"])
+    if args.max_time is not None:
+        if not args.max_time > 0:
+            print(
+                f"dyntorsion: error: --max-time={args.max_time} must be > 0 seconds",
+                file=sys.stderr,
+            )
+            return 2
+        os.environ["DYNTORSION_MAX_TIME"] = repr(args.max_time)  # worker processes inherit it
     main_thread = threading.current_thread() is threading.main_thread()
     old = signal.signal(signal.SIGTERM, _terminate) if main_thread else None
     try:

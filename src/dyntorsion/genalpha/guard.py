@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import math
 import os
+import sys
 from collections.abc import Sequence
 
 import numpy as np
@@ -133,3 +134,65 @@ def check_memory(n_steps: int, n_nodes: int, nf: int, n_recorded: int, n_snapsho
         f"{n_snapshots} snapshots) but {avail / 2**30:.3g} GiB is available: raise dt, "
         "shorten t_end, or keep fewer snapshots"
     )
+
+
+#: wall time of one step per node and field [s]: measured about 1.1 us per node for the
+#: 12-field rod at N = 100-800 (a step costs 106 us at N = 100, `make bench`,
+#: 2026-11-23), i.e. about 0.09 us per node and field; taken 3 times larger so that
+#: step control, retries and a slower machine stay under the estimate
+SECONDS_PER_NODE_FIELD_STEP = 0.3e-6
+#: runs estimated longer than this are announced before they start [s]
+ANNOUNCE_AFTER_S = 30.0
+#: the default budget of one run [s]; ``DYNTORSION_MAX_TIME`` (or the CLI's --max-time) sets it
+DEFAULT_MAX_TIME_S = 6 * 3600.0
+
+
+def run_seconds(n_steps: int, n_nodes: int, nf: int) -> float:
+    """An upper estimate of a run's wall time from its steps and grid."""
+    return SECONDS_PER_NODE_FIELD_STEP * n_steps * n_nodes * nf
+
+
+def max_time() -> float:
+    """The run-time budget: ``$DYNTORSION_MAX_TIME`` [s] if set, else the default."""
+    raw = os.environ.get("DYNTORSION_MAX_TIME")
+    if raw is None:
+        return DEFAULT_MAX_TIME_S
+    try:
+        value = float(raw)
+    except ValueError:
+        value = math.nan
+    if not value > 0:
+        raise ValueError(f"DYNTORSION_MAX_TIME={raw!r} must be a number of seconds > 0")
+    return value
+
+
+def check_time(n_steps: int, n_nodes: int, nf: int, say=None) -> float:
+    """Refuse (:class:`BudgetError`, with the estimate and what to change) a run estimated
+    longer than :func:`max_time`; announce one longer than :data:`ANNOUNCE_AFTER_S`
+    through ``say`` (default: one line on stderr).  Returns the estimate [s]."""
+    need = run_seconds(n_steps, n_nodes, nf)
+    budget = max_time()
+    if need > budget:
+        raise BudgetError(
+            f"the run is estimated at {_duration(need)} ({n_steps} time steps x {n_nodes} "
+            f"nodes x {nf} fields), over the budget of {_duration(budget)}: raise dt, use "
+            "fewer cells, shorten t_end, or raise the budget (--max-time or DYNTORSION_MAX_TIME)"
+        )
+    if need > ANNOUNCE_AFTER_S:
+        (say or _stderr)(
+            f"dyntorsion: this run may take up to {_duration(need)} ({n_steps} steps x "
+            f"{n_nodes} nodes; budget {_duration(budget)})"
+        )
+    return need
+
+
+def _duration(seconds: float) -> str:
+    if seconds < 120:
+        return f"{seconds:.0f} s"
+    if seconds < 7200:
+        return f"{seconds / 60:.0f} min"
+    return f"{seconds / 3600:.1f} h"
+
+
+def _stderr(message: str) -> None:
+    print(message, file=sys.stderr)

@@ -14,7 +14,7 @@ import numpy as np
 
 from ..model.system import Boundary, System
 from .discrete import setup
-from .guard import check_memory, check_time_grid
+from .guard import check_memory, check_time, check_time_grid
 from .march import full_newton_iterations
 from .newton import Newton
 from .plan import Levels, Plan, Source, gate_of, initial_rate
@@ -128,6 +128,7 @@ def integrate(
     s = np.linspace(0.0, length, n1)
     n_steps = check_time_grid(dt, t_end, t0, snapshots, check_every)
     check_memory(n_steps, n1, nf, len(record or {}), len(snapshots))
+    check_time(n_steps, n1, nf)
     times = t0 + dt * np.arange(n_steps + 1)
     src = Source.of(s, nf, source, source_field)
     rate0 = initial_rate(system, y0, ds, y_t0, src, t0)
