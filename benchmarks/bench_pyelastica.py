@@ -78,7 +78,12 @@ def _seed_forces(forces, directors, node_length, q):
 def elastica_run(
     n_elements: int, rod: Rod = Rod(), t_end: float = T_END, dt: float = DT, record_every: int = 250
 ):
-    import elastica as ea
+    try:
+        import elastica as ea
+    except ImportError:
+        raise SystemExit(
+            "bench_pyelastica needs PyElastica: pip install 'dyntorsion[bench]'"
+        ) from None
 
     class Scene(ea.BaseSystemCollection, ea.Constraints, ea.Forcing, ea.CallBacks):
         pass

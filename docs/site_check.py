@@ -138,7 +138,10 @@ def chromium_path(explicit: str | None) -> str:
 
 
 def check(build: Path, screens: Path, chromium: str) -> dict[str, list[tuple[str, str]]]:
-    from playwright.sync_api import sync_playwright
+    try:
+        from playwright.sync_api import sync_playwright
+    except ImportError:
+        sys.exit("site-check needs playwright: pip install 'dyntorsion[site]' (or make site-check)")
 
     pages = sorted(p for p in build.rglob("*.html") if "_static" not in p.parts)
     pages = [p for p in pages if p.name not in ("genindex.html", "search.html")] + [
