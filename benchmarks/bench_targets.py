@@ -29,7 +29,7 @@ Newton counts per step of the Fig 8 scene are printed too (they do not depend on
   the estimates are timed with it), with its largest change of t_c against the
   standard grid (floor 2 s; ``benchmarks/bench_paced.py`` compares both with the
   converged onset);
-* the fast onset estimate (``linear_predictions.estimate``), median per Fig 10
+* the fast onset estimate (``beyond.predictions.estimate``), median per Fig 10
   scene in ms (floor 10 ms);
 * the linear prediction of the Fig 10 scene a = 1.6, with the torsional waves and on
   the uniform ramp (floor: no slower than the simulated scene);
@@ -164,7 +164,7 @@ else:  # the baseline has none: its first-peak sweep
     res["fig10_paced_err_pct"] = 0.0
     res["fig10_paced_steps"] = float("nan")
 try:
-    from dyntorsion.studies.linear_predictions import estimate
+    from dyntorsion.beyond.predictions import estimate
 except ImportError:
     estimate = None
 if estimate is not None:

@@ -1,5 +1,7 @@
-"""Examples in the README run, and do what they say."""
+"""Examples in the README and on the "Install and run" page run, and do what they say."""
 
+import contextlib
+import io
 import pathlib
 import re
 
@@ -8,11 +10,23 @@ import numpy as np
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 
 
-def test_readme_example_runs():
-    text = (ROOT / "README.md").read_text()
-    blocks = re.findall(r"```python\n(.*?)```", text, flags=re.S)
-    assert blocks, "README has no python example"
-    extend, engine = blocks[0], blocks[1]
+def _python_blocks(path: pathlib.Path) -> list[str]:
+    return re.findall(r"```python\n(.*?)```", path.read_text(), flags=re.S)
+
+
+def test_readme_example_prints_what_it_says():
+    (block,) = _python_blocks(ROOT / "README.md")
+    said = re.search(r"# (\S+ 1/m, c = \S+ m/s)", block).group(1)
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out):
+        exec(compile(block, "README.md", "exec"), {})  # noqa: S102
+    assert out.getvalue().strip() == said
+
+
+def test_usage_page_examples_run():
+    blocks = _python_blocks(ROOT / "docs" / "usage.md")
+    assert len(blocks) == 2, "the usage page has an extending and an engine example"
+    extend, engine = blocks
     namespace: dict = {}
     exec(compile(extend, "README.md", "exec"), namespace)  # noqa: S102
     rod, run = namespace["rod"], namespace["run"]

@@ -8,6 +8,7 @@ import pytest
 
 from dyntorsion import Rod
 from dyntorsion.beyond import linear_stability as LS
+from dyntorsion.beyond.predictions import estimate
 from dyntorsion.buckling import M_CRI_MP, Perturbation
 from dyntorsion.buckling.statics import critical_twist
 from dyntorsion.store import results as R
@@ -334,13 +335,13 @@ def test_a_committed_prediction_is_reproduced():
 
 
 def test_fast_estimate_is_within_3_percent_of_the_simulated_onsets():
-    """linear_predictions.estimate against the committed Fig 10 sweeps (stated and tiny
+    """beyond.predictions.estimate against the committed Fig 10 sweeps (stated and tiny
     seed): the threshold time within 3 % of the simulation's at every rate."""
     for name in ("fig10", "fig10-tiny-seed"):
         sim = P.cached(name)
         for sc, t_ref in zip(P.preset(name), sim.t_ref, strict=True):
-            e = LP.estimate(sc)
+            e = estimate(sc)
             assert 6 <= e.modes <= 24
             assert e.t_ref == pytest.approx(t_ref, rel=0.03), (name, sc.a)
     with pytest.raises(ValueError, match="axial load"):
-        LP.estimate(S.Scene(a=1.6, tension=0.01, t_end=10.0))
+        estimate(S.Scene(a=1.6, tension=0.01, t_end=10.0))

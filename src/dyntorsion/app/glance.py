@@ -18,8 +18,7 @@ import pandas as pd
 
 from .. import __version__
 from ..buckling.delay_law import fit_power_law
-from ..buckling.simulation import m_cri
-from ..buckling.statics import critical_twist
+from ..buckling.statics import critical_twist, m_cri
 from ..model.rod import Rod
 from ..published import published
 from ..store.location import checkout
