@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import json
+import os
 
+import numpy as np
 import pytest
 
 import dyntorsion.studies  # noqa: F401  (registers the record kinds)
@@ -123,6 +125,7 @@ def test_a_run_past_the_time_budget_is_refused_before_it_starts(capsys, monkeypa
         assert main(argv) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "over the budget of 60 s" in err[0] and "raise dt" in err[0]
+    assert "DYNTORSION_MAX_TIME" not in os.environ  # the option does not outlive the call
 
 
 def test_a_long_run_is_announced_with_its_estimate(monkeypatch):
@@ -136,3 +139,19 @@ def test_a_long_run_is_announced_with_its_estimate(monkeypatch):
     monkeypatch.setenv("DYNTORSION_MAX_TIME", "-3")
     with pytest.raises(ValueError, match="DYNTORSION_MAX_TIME"):
         guard.max_time()
+
+
+@pytest.mark.parametrize(
+    "func, words",
+    [
+        (lambda t: np.array([1.0, 2.0]), "a number per time"),
+        (lambda t: "x", "a number per time"),
+        (lambda t: np.nan * t, "must be finite"),
+    ],
+)
+def test_a_custom_history_is_checked_once_before_the_run(func, words):
+    from dyntorsion.buckling import simulate
+    from dyntorsion.buckling.loading import Custom
+
+    with pytest.raises(ValueError, match=rf"history=custom 'h': .*{words}"):
+        simulate(history=Custom("h", func), n_cells=10, dt=0.01, t_end=0.05, progress=False)

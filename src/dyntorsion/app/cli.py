@@ -425,13 +425,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     debug = "--debug" in argv
     args = parser().parse_args([a for a in argv if a != "--debug"])
+    if args.max_time is not None and not args.max_time > 0:
+        print(f"dyntorsion: error: --max-time={args.max_time} must be > 0 seconds", file=sys.stderr)
+        return 2
+    budget = os.environ.get("DYNTORSION_MAX_TIME")
     if args.max_time is not None:
-        if not args.max_time > 0:
-            print(
-                f"dyntorsion: error: --max-time={args.max_time} must be > 0 seconds",
-                file=sys.stderr,
-            )
-            return 2
         os.environ["DYNTORSION_MAX_TIME"] = repr(args.max_time)  # worker processes inherit it
     main_thread = threading.current_thread() is threading.main_thread()
     old = signal.signal(signal.SIGTERM, _terminate) if main_thread else None
@@ -459,6 +457,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     finally:
         if main_thread:
             signal.signal(signal.SIGTERM, old)
+        if args.max_time is not None:  # a caller in this process keeps its own budget
+            if budget is None:
+                os.environ.pop("DYNTORSION_MAX_TIME", None)
+            else:
+                os.environ["DYNTORSION_MAX_TIME"] = budget
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -64,6 +64,28 @@ def _history(a: float | None, kappa0: float, history: History | None) -> History
     return history
 
 
+def _checked(hist: History, t_end: float) -> History:
+    """The history, its output checked once before the run (issue 37): finite numbers, one
+    per time, over [0, t_end]; else a ValueError naming the history."""
+    t = np.linspace(0.0, t_end, 2001)
+    name = f"custom {hist.name!r}" if hasattr(hist, "func") else hist.label()
+    try:
+        out = np.asarray(hist(t), dtype=float)
+    except (TypeError, ValueError) as err:
+        raise ValueError(
+            f"history={name}: kappa3(0, t) must be a number per time t ({err})"
+        ) from None
+    if out.shape != t.shape:
+        raise ValueError(f"history={name}: kappa3(0, t) of {t.size} times has shape {out.shape}")
+    bad = ~np.isfinite(out)
+    if bad.any():
+        i = int(np.argmax(bad))
+        raise ValueError(
+            f"history={name}: kappa3(0, t) = {out[i]} at t = {t[i]:.6g} s, must be finite"
+        )
+    return hist
+
+
 def _load(tension: float | AxialLoad) -> AxialLoad:
     return tension if isinstance(tension, AxialLoad) else AxialLoad(T=tension)
 
@@ -137,7 +159,7 @@ def simulate(
     if not isinstance(rod, Rod):
         raise TypeError(f"rod={rod!r} must be a dyntorsion.Rod")
     check_time_grid(dt, t_end, 0.0, snapshots, check_every)
-    hist = _history(a, kappa0, history)
+    hist = _checked(_history(a, kappa0, history), t_end)
     load = _load(tension)
     end_set = _ends(ends)
     if not isinstance(perturbation, Perturbation):
