@@ -87,9 +87,6 @@ def _cross(a0, a1, a2, b0, b1, b2):
 def load_vector(y, p, out):
     """F(y) of eq (7) for one node (see the module docstring for the rows)."""
     q = unpack(p)
-    rhoA, rI0, rI1, rI2, B1, B2, C = q.rhoA, q.rI1, q.rI2, q.rI3, q.B1, q.B2, q.C
-    s_wxu, s_kxn, s_kxm, s_d3xn = q.wxu, q.kxn, q.kxm, q.d3xn
-    s_gyro, s_kxw, s_kxu, s_wxd3 = q.gyro, q.kxw, q.kxu, q.wxd3
     u0, u1, u2 = y[0], y[1], y[2]
     w0, w1, w2 = y[3], y[4], y[5]
     k0, k1, k2 = y[6], y[7], y[8]
@@ -97,25 +94,25 @@ def load_vector(y, p, out):
     # linear momentum: -k x n + rho A (w x u)
     a0, a1, a2 = _cross(k0, k1, k2, n0, n1, n2)
     b0, b1, b2 = _cross(w0, w1, w2, u0, u1, u2)
-    out[0] = -s_kxn * a0 + s_wxu * rhoA * b0
-    out[1] = -s_kxn * a1 + s_wxu * rhoA * b1
-    out[2] = -s_kxn * a2 + s_wxu * rhoA * b2
+    out[0] = -q.kxn * a0 + q.wxu * q.rhoA * b0
+    out[1] = -q.kxn * a1 + q.wxu * q.rhoA * b1
+    out[2] = -q.kxn * a2 + q.wxu * q.rhoA * b2
     # angular momentum: -k x (K^ k) - d3 x n + w x (rho I w)
-    a0, a1, a2 = _cross(k0, k1, k2, B1 * k0, B2 * k1, C * k2)
-    b0, b1, b2 = _cross(w0, w1, w2, rI0 * w0, rI1 * w1, rI2 * w2)
-    out[3] = -s_kxm * a0 + s_d3xn * n1 + s_gyro * b0
-    out[4] = -s_kxm * a1 - s_d3xn * n0 + s_gyro * b1
-    out[5] = -s_kxm * a2 + s_gyro * b2
+    a0, a1, a2 = _cross(k0, k1, k2, q.B1 * k0, q.B2 * k1, q.C * k2)
+    b0, b1, b2 = _cross(w0, w1, w2, q.rI1 * w0, q.rI2 * w1, q.rI3 * w2)
+    out[3] = -q.kxm * a0 + q.d3xn * n1 + q.gyro * b0
+    out[4] = -q.kxm * a1 - q.d3xn * n0 + q.gyro * b1
+    out[5] = -q.kxm * a2 + q.gyro * b2
     # compatibility: -k x w
     a0, a1, a2 = _cross(k0, k1, k2, w0, w1, w2)
-    out[6] = -s_kxw * a0
-    out[7] = -s_kxw * a1
-    out[8] = -s_kxw * a2
+    out[6] = -q.kxw * a0
+    out[7] = -q.kxw * a1
+    out[8] = -q.kxw * a2
     # inextensibility: k x u - w x d3,   w x d3 = (w1, -w0, 0)
     a0, a1, a2 = _cross(k0, k1, k2, u0, u1, u2)
-    out[9] = s_kxu * a0 - s_wxd3 * w1
-    out[10] = s_kxu * a1 + s_wxd3 * w0
-    out[11] = s_kxu * a2
+    out[9] = q.kxu * a0 - q.wxd3 * w1
+    out[10] = q.kxu * a1 + q.wxd3 * w0
+    out[11] = q.kxu * a2
 
 
 @jit
@@ -133,48 +130,45 @@ def _skew_into(J, r0, c0, scale, a0, a1, a2):
 def load_jacobian(y, p, out):
     """dF/dy (12 x 12) of :func:`load_vector`, analytic."""
     q = unpack(p)
-    rhoA, rI0, rI1, rI2, B1, B2, C = q.rhoA, q.rI1, q.rI2, q.rI3, q.B1, q.B2, q.C
-    s_wxu, s_kxn, s_kxm, s_d3xn = q.wxu, q.kxn, q.kxm, q.d3xn
-    s_gyro, s_kxw, s_kxu, s_wxd3 = q.gyro, q.kxw, q.kxu, q.wxd3
     u0, u1, u2 = y[0], y[1], y[2]
     w0, w1, w2 = y[3], y[4], y[5]
     k0, k1, k2 = y[6], y[7], y[8]
     n0, n1, n2 = y[9], y[10], y[11]
     out[:, :] = 0.0
     # row 1: -k x n = n x k  ->  d/dk = [n]x, d/dn = -[k]x ;  w x u -> d/dw = -[u]x, d/du = [w]x
-    _skew_into(out, 0, 6, s_kxn, n0, n1, n2)
-    _skew_into(out, 0, 9, -s_kxn, k0, k1, k2)
-    _skew_into(out, 0, 3, -s_wxu * rhoA, u0, u1, u2)
-    _skew_into(out, 0, 0, s_wxu * rhoA, w0, w1, w2)
+    _skew_into(out, 0, 6, q.kxn, n0, n1, n2)
+    _skew_into(out, 0, 9, -q.kxn, k0, k1, k2)
+    _skew_into(out, 0, 3, -q.wxu * q.rhoA, u0, u1, u2)
+    _skew_into(out, 0, 0, q.wxu * q.rhoA, w0, w1, w2)
     # row 2: -k x (K^k)  ->  d/dk = -[k]x K^ + [K^k]x
-    m0, m1, m2 = B1 * k0, B2 * k1, C * k2
-    _skew_into(out, 3, 6, s_kxm, m0, m1, m2)
-    out[3, 7] += s_kxm * k2 * B2
-    out[3, 8] += -s_kxm * k1 * C
-    out[4, 6] += -s_kxm * k2 * B1
-    out[4, 8] += s_kxm * k0 * C
-    out[5, 6] += s_kxm * k1 * B1
-    out[5, 7] += -s_kxm * k0 * B2
+    m0, m1, m2 = q.B1 * k0, q.B2 * k1, q.C * k2
+    _skew_into(out, 3, 6, q.kxm, m0, m1, m2)
+    out[3, 7] += q.kxm * k2 * q.B2
+    out[3, 8] += -q.kxm * k1 * q.C
+    out[4, 6] += -q.kxm * k2 * q.B1
+    out[4, 8] += q.kxm * k0 * q.C
+    out[5, 6] += q.kxm * k1 * q.B1
+    out[5, 7] += -q.kxm * k0 * q.B2
     #        -d3 x n = (n1, -n0, 0)
-    out[3, 10] += s_d3xn
-    out[4, 9] += -s_d3xn
+    out[3, 10] += q.d3xn
+    out[4, 9] += -q.d3xn
     #        w x (rho I w)  ->  d/dw = [w]x rhoI - [rhoI w]x
-    h0, h1, h2 = rI0 * w0, rI1 * w1, rI2 * w2
-    _skew_into(out, 3, 3, -s_gyro, h0, h1, h2)
-    out[3, 4] += -s_gyro * w2 * rI1
-    out[3, 5] += s_gyro * w1 * rI2
-    out[4, 3] += s_gyro * w2 * rI0
-    out[4, 5] += -s_gyro * w0 * rI2
-    out[5, 3] += -s_gyro * w1 * rI0
-    out[5, 4] += s_gyro * w0 * rI1
+    h0, h1, h2 = q.rI1 * w0, q.rI2 * w1, q.rI3 * w2
+    _skew_into(out, 3, 3, -q.gyro, h0, h1, h2)
+    out[3, 4] += -q.gyro * w2 * q.rI2
+    out[3, 5] += q.gyro * w1 * q.rI3
+    out[4, 3] += q.gyro * w2 * q.rI1
+    out[4, 5] += -q.gyro * w0 * q.rI3
+    out[5, 3] += -q.gyro * w1 * q.rI1
+    out[5, 4] += q.gyro * w0 * q.rI2
     # row 3: -k x w = w x k  ->  d/dk = [w]x, d/dw = -[k]x
-    _skew_into(out, 6, 6, s_kxw, w0, w1, w2)
-    _skew_into(out, 6, 3, -s_kxw, k0, k1, k2)
+    _skew_into(out, 6, 6, q.kxw, w0, w1, w2)
+    _skew_into(out, 6, 3, -q.kxw, k0, k1, k2)
     # row 4: k x u -> d/du = [k]x, d/dk = -[u]x ;  -w x d3 = (-w1, w0, 0)
-    _skew_into(out, 9, 0, s_kxu, k0, k1, k2)
-    _skew_into(out, 9, 6, -s_kxu, u0, u1, u2)
-    out[9, 4] += -s_wxd3
-    out[10, 3] += s_wxd3
+    _skew_into(out, 9, 0, q.kxu, k0, k1, k2)
+    _skew_into(out, 9, 6, -q.kxu, u0, u1, u2)
+    out[9, 4] += -q.wxd3
+    out[10, 3] += q.wxd3
 
 
 @dataclass(frozen=True)
