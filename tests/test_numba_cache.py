@@ -3,8 +3,14 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import NamedTuple
+
+import numba
+import numpy as np
+import pytest
 
 from dyntorsion import _numba
+from dyntorsion._numba import Matrix, Vector, named
 from dyntorsion.genalpha import march
 
 
@@ -38,3 +44,31 @@ def test_the_package_kernels_are_cached_under_the_digest():
     assert locator is not None
     assert f"numba-{_numba.kernel_sources_digest()}" in locator.get_cache_path()
     assert _numba.SourceKeyedLocator.from_function(len, __file__) is None  # not ours
+
+
+class _Inner(NamedTuple):
+    a: float
+    b: int
+
+
+class _Outer(NamedTuple):
+    x: Vector
+    m: Matrix
+    flag: bool
+    inner: _Inner
+
+
+class _Bad(NamedTuple):
+    x: np.ndarray
+
+
+def test_named_reads_compiled_types_from_annotations():
+    """A kernel structure's numba type comes from its field annotations (one place for each
+    field's type); a field without a compiled type is refused, naming it."""
+    t = named(_Outer)
+    assert t.types[0] == numba.types.float64[::1]
+    assert t.types[1] == numba.types.float64[:, ::1]
+    assert t.types[2] == numba.boolean
+    assert t.types[3].types == (numba.float64, numba.int64)
+    with pytest.raises(TypeError, match=r"_Bad\.x: annotation .* has no compiled type"):
+        named(_Bad)

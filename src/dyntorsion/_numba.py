@@ -24,8 +24,10 @@ import os
 import tempfile
 from functools import cache
 from pathlib import Path
+from typing import Annotated, get_args, get_origin, get_type_hints
 
 import numba
+import numpy as np
 from numba.core import caching
 
 JIT_OPTIONS = {"cache": True, "nogil": True, "fastmath": False, "error_model": "numpy"}
@@ -113,9 +115,36 @@ A3 = numba.types.float64[:, :, ::1]
 I1 = numba.types.int64[::1]
 I2 = numba.types.int64[:, ::1]
 
+#: annotations of the array fields of the kernels' NamedTuples: the array and its compiled type
+Vector = Annotated[np.ndarray, A1]
+Matrix = Annotated[np.ndarray, A2]
+Stack = Annotated[np.ndarray, A3]
+Indices = Annotated[np.ndarray, I1]
+IndexMatrix = Annotated[np.ndarray, I2]
 
-def named(cls, *field_types):
-    """The numba type of the NamedTuple ``cls`` with fields of ``field_types`` (for signatures)."""
+_SCALARS = {float: numba.float64, int: numba.int64, bool: numba.boolean}
+
+
+def named(cls):
+    """The numba type of the NamedTuple ``cls``, read from its annotations: ``float``,
+    ``int`` and ``bool`` fields are float64, int64 and boolean, array fields are annotated
+    with :data:`Vector`, :data:`Matrix`, :data:`Stack`, :data:`Indices` or
+    :data:`IndexMatrix`, and a NamedTuple field is typed the same way (for signatures)."""
+    hints = get_type_hints(cls, include_extras=True)
+    field_types = []
+    for name in cls._fields:
+        hint = hints[name]
+        if get_origin(hint) is Annotated:
+            field_types.append(get_args(hint)[1])
+        elif hint in _SCALARS:
+            field_types.append(_SCALARS[hint])
+        elif isinstance(hint, type) and issubclass(hint, tuple) and hasattr(hint, "_fields"):
+            field_types.append(named(hint))
+        else:
+            raise TypeError(
+                f"{cls.__name__}.{name}: annotation {hint!r} has no compiled type; use float, "
+                "int, bool, a NamedTuple, or one of Vector, Matrix, Stack, Indices, IndexMatrix"
+            )
     if all(t == field_types[0] for t in field_types):
         return numba.types.NamedUniTuple(field_types[0], len(field_types), cls)
     return numba.types.NamedTuple(field_types, cls)

@@ -41,28 +41,28 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .._numba import A1, A2, A3, I1, I2, jit, named
+from .._numba import IndexMatrix, Indices, Matrix, Stack, Vector, jit, named
 
 
 class Factors(NamedTuple):
     """LU factors of the staircase matrix, their explicit block operators and work
     (see the module docstring)."""
 
-    W: np.ndarray  # (N, m, 2 nf) multipliers, U rows and carried rows of each node
-    piv: np.ndarray  # (N, nf) row interchanges
-    Wl: np.ndarray  # (nf, nf) LU of the last node
-    pivl: np.ndarray  # (nf,)
-    v: np.ndarray  # (2 m,) work
-    HK: np.ndarray  # (N, m, m) forward elimination and U_b^{-1} of each node, transposed
-    G: np.ndarray  # (N, nf, nf) U_b^{-1} C_b, transposed
-    uses: np.ndarray  # [solves since the factorisation]; HK, G valid once > EXPLICIT_AFTER
+    W: Stack  # (N, m, 2 nf) multipliers, U rows and carried rows of each node
+    piv: IndexMatrix  # (N, nf) row interchanges
+    Wl: Matrix  # (nf, nf) LU of the last node
+    pivl: Indices  # (nf,)
+    v: Vector  # (2 m,) work
+    HK: Stack  # (N, m, m) forward elimination and U_b^{-1} of each node, transposed
+    G: Stack  # (N, nf, nf) U_b^{-1} C_b, transposed
+    uses: Indices  # [solves since the factorisation]; HK, G valid once > EXPLICIT_AFTER
 
 
 #: solves by substitution with new LU factors before their explicit operators are built
 #: (:func:`solve`); 1, 4 and 8 gave the same Fig 10 sweep time within 1.2 %
 EXPLICIT_AFTER = 4
 
-FACTORS = named(Factors, A3, I2, A2, I1, A1, A3, A3, I1)
+FACTORS = named(Factors)
 
 
 def allocate(n_cells: int, nf: int, nbl: int) -> Factors:

@@ -20,10 +20,9 @@ from __future__ import annotations
 import math
 from typing import NamedTuple
 
-import numba
 import numpy as np
 
-from .._numba import A1, A2, A3, I1, I2, jit, named
+from .._numba import IndexMatrix, Indices, Matrix, Stack, Vector, jit, named
 from ..model.system import Boundary, System
 from . import abd as _abd
 from .scheme import Coefficients, Scheme
@@ -37,8 +36,8 @@ class Pattern(NamedTuple):
     visit only these, in the same order as the dense sum, so the skipped terms (exact
     zeros times finite numbers) change no bit of the result."""
 
-    cols: np.ndarray
-    n: np.ndarray
+    cols: IndexMatrix
+    n: Indices
 
 
 def pattern(*mats: np.ndarray) -> Pattern:
@@ -56,18 +55,18 @@ def pattern(*mats: np.ndarray) -> Pattern:
 class Constants(NamedTuple):
     """What stays fixed during a run: the model, the scheme and the boundary rows."""
 
-    params: np.ndarray  # the model's parameters, passed to F and dF
-    M: np.ndarray
-    K: np.ndarray
-    P: np.ndarray  # d R_j / d y_j^i without the load
-    Q: np.ndarray  # d R_j / d y_{j-1}^i without the load
+    params: Vector  # the model's parameters, passed to F and dF
+    M: Matrix
+    K: Matrix
+    P: Matrix  # d R_j / d y_j^i without the load
+    Q: Matrix  # d R_j / d y_{j-1}^i without the load
     co: Coefficients
-    yscale: np.ndarray
-    rscale: np.ndarray
-    left_rows: np.ndarray
-    left_scale: np.ndarray
-    right_rows: np.ndarray
-    right_scale: np.ndarray
+    yscale: Vector
+    rscale: Vector
+    left_rows: Matrix
+    left_scale: Vector
+    right_rows: Matrix
+    right_scale: Vector
     pq: Pattern  # where P or Q is nonzero: the residual's sums skip the exact zeros
     mk: Pattern  # where M or K is nonzero: the same for the step's fixed part c_j
 
@@ -75,34 +74,32 @@ class Constants(NamedTuple):
 class Work(NamedTuple):
     """The state carried from step to step and the work arrays of one step."""
 
-    y_old: np.ndarray  # y^{i-1}  (N+1, nf)
-    rate_old: np.ndarray  # y_t^{i-1}
-    y: np.ndarray  # the Newton iterate for y^i
-    y_trial: np.ndarray  # y + lam dx
-    r: np.ndarray  # scaled residual at y  (nf (N+1),)
-    r_trial: np.ndarray  # ... at y_trial
-    dx: np.ndarray  # scaled Newton correction at y
-    dx_trial: np.ndarray  # simplified correction at y_trial
-    F: np.ndarray  # load vector at the nodes (trapezoidal) or the cells (midpoint)
-    dF: np.ndarray  # its Jacobian
-    F_old: np.ndarray  # load vector at y^{i-1} (trapezoidal)
-    c: np.ndarray  # the part of each cell's residual fixed during the step  (N, nf)
-    y_bar_old: np.ndarray  # b_t <y^{i-1}>_j  (midpoint rule)
-    z: np.ndarray  # -c_M y^{i-1} + c_A y_t^{i-1}
-    y_tmp: np.ndarray  # one node's state  (nf,)
-    A: np.ndarray  # scaled Jacobian blocks on node j-1  (N, nf, nf)
-    B: np.ndarray  # ... on node j
-    left: np.ndarray  # scaled left boundary rows
-    right: np.ndarray  # scaled right boundary rows
-    factored: np.ndarray  # [1] while LU factors of a (possibly stale) Jacobian are held
+    y_old: Matrix  # y^{i-1}  (N+1, nf)
+    rate_old: Matrix  # y_t^{i-1}
+    y: Matrix  # the Newton iterate for y^i
+    y_trial: Matrix  # y + lam dx
+    r: Vector  # scaled residual at y  (nf (N+1),)
+    r_trial: Vector  # ... at y_trial
+    dx: Matrix  # scaled Newton correction at y
+    dx_trial: Matrix  # simplified correction at y_trial
+    F: Matrix  # load vector at the nodes (trapezoidal) or the cells (midpoint)
+    dF: Stack  # its Jacobian
+    F_old: Matrix  # load vector at y^{i-1} (trapezoidal)
+    c: Matrix  # the part of each cell's residual fixed during the step  (N, nf)
+    y_bar_old: Matrix  # b_t <y^{i-1}>_j  (midpoint rule)
+    z: Matrix  # -c_M y^{i-1} + c_A y_t^{i-1}
+    y_tmp: Vector  # one node's state  (nf,)
+    A: Stack  # scaled Jacobian blocks on node j-1  (N, nf, nf)
+    B: Stack  # ... on node j
+    left: Matrix  # scaled left boundary rows
+    right: Matrix  # scaled right boundary rows
+    factored: Indices  # [1] while LU factors of a (possibly stale) Jacobian are held
 
 
-COEFFICIENTS = named(Coefficients, *([numba.float64] * 8), numba.boolean)
-PATTERN = named(Pattern, I2, I1)
-CONSTANTS = named(
-    Constants, A1, A2, A2, A2, A2, COEFFICIENTS, A1, A1, A2, A1, A2, A1, PATTERN, PATTERN
-)
-WORK = named(Work, A2, A2, A2, A2, A1, A1, A2, A2, A2, A3, A2, A2, A2, A2, A1, A3, A3, A2, A2, I1)
+COEFFICIENTS = named(Coefficients)
+PATTERN = named(Pattern)
+CONSTANTS = named(Constants)
+WORK = named(Work)
 
 
 def setup(

@@ -8,7 +8,19 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
-from .._numba import A1, A2, A3, I1, JACOBIAN_SIGNATURE, LOAD_SIGNATURE, jit, named
+from .._numba import (
+    A1,
+    A2,
+    I1,
+    JACOBIAN_SIGNATURE,
+    LOAD_SIGNATURE,
+    Indices,
+    Matrix,
+    Stack,
+    Vector,
+    jit,
+    named,
+)
 from . import abd as _abd
 from .discrete import CONSTANTS, WORK, factor, prepare_step, residual, solve_neg
 from .newton import _CONVERGED, NEWTON_OPTIONS, OUTCOME, NewtonOptions, Outcome, solve_step
@@ -32,21 +44,21 @@ __all__ = [
 class Forcing(NamedTuple):
     """Boundary values and sources at the time levels of a chunk of steps."""
 
-    gL: np.ndarray  # (n+1, nb_left)
-    gR: np.ndarray  # (n+1, nb_right)
-    q_space: np.ndarray  # (N+1, nf): separable source q_space(s) q_time(t)
-    q_time: np.ndarray  # (n+1,)
-    q_field: np.ndarray  # (n+1, N+1, nf) general source, or empty
+    gL: Matrix  # (n+1, nb_left)
+    gR: Matrix  # (n+1, nb_right)
+    q_space: Matrix  # (N+1, nf): separable source q_space(s) q_time(t)
+    q_time: Vector  # (n+1,)
+    q_field: Stack  # (n+1, N+1, nf) general source, or empty
 
 
 class Recording(NamedTuple):
     """Which fields at which nodes to record, every how many steps, and where."""
 
-    fields: np.ndarray
-    nodes: np.ndarray
+    fields: Indices
+    nodes: Indices
     every: int
     offset: int  # index of the chunk's first step in the run
-    out: np.ndarray  # (records, fields)
+    out: Matrix  # (records, fields)
 
 
 class Gate(NamedTuple):
@@ -57,11 +69,11 @@ class Gate(NamedTuple):
     ``state`` is the memory of the estimate: levels seen, the largest gauge, why it
     closed (0 open, 1 limit, 2 error), and the gauge at the last three levels."""
 
-    fields: np.ndarray
+    fields: Indices
     weight: float
     limit: float
     tol: float
-    state: np.ndarray
+    state: Vector
 
 
 #: the slots of :attr:`Gate.state`: levels seen, the largest gauge, why the gate closed
@@ -75,9 +87,9 @@ def make_gate(fields, weight: float, limit: float, tol: float = np.inf) -> Gate:
     return Gate(np.asarray(fields, np.int64), float(weight), float(limit), float(tol), np.zeros(6))
 
 
-FORCING = named(Forcing, A2, A2, A2, A1, A3)
-RECORDING = named(Recording, I1, I1, numba.int64, numba.int64, A2)
-GATE = named(Gate, I1, numba.float64, numba.float64, numba.float64, A1)
+FORCING = named(Forcing)
+RECORDING = named(Recording)
+GATE = named(Gate)
 #: the gate that never closes a chunk early
 NO_GATE = make_gate(np.zeros(0, np.int64), 0.0, np.inf)
 _F = numba.types.FunctionType(LOAD_SIGNATURE)

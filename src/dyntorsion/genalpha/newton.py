@@ -9,7 +9,6 @@ from dataclasses import dataclass
 from enum import IntEnum
 from typing import TYPE_CHECKING, NamedTuple
 
-import numba
 import numpy as np
 
 from .._numba import jit, named
@@ -65,17 +64,8 @@ class Outcome(NamedTuple):
     residual: float
 
 
-NEWTON_OPTIONS = named(
-    NewtonOptions,
-    numba.float64,
-    numba.int64,
-    numba.float64,
-    numba.float64,
-    numba.boolean,
-    numba.boolean,
-    numba.boolean,
-)
-OUTCOME = named(Outcome, numba.int64, numba.int64, numba.int64, numba.int64, numba.float64)
+NEWTON_OPTIONS = named(NewtonOptions)
+OUTCOME = named(Outcome)
 
 
 @dataclass(frozen=True)

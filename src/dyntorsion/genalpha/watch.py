@@ -22,7 +22,7 @@ from typing import Any, NamedTuple
 import numba
 import numpy as np
 
-from .._numba import A1, A2, I1, jit, named
+from .._numba import A2, Indices, Vector, jit, named
 
 __all__ = ["Watch", "CompiledStop", "STOP_SIGNATURE", "NO_WATCH", "never"]
 
@@ -33,10 +33,10 @@ class Watch(NamedTuple):
 
     every: int
     until: int
-    params: np.ndarray
-    state: np.ndarray
-    work: np.ndarray
-    index: np.ndarray
+    params: Vector
+    state: Vector
+    work: Vector
+    index: Indices
 
 
 for _name, _doc in (
@@ -49,7 +49,7 @@ for _name, _doc in (
 ):
     getattr(Watch, _name).__doc__ = _doc
 
-WATCH = named(Watch, numba.int64, numba.int64, A1, A1, A1, I1)
+WATCH = named(Watch)
 #: signature of a compiled stop test  test(y, watch) -> stop?
 STOP_SIGNATURE = numba.boolean(A2, WATCH)
 
