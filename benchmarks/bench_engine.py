@@ -82,15 +82,12 @@ def main() -> None:
         steps = 400
         run = ga.integrate(
             system,
-            n_cells=n,
-            length=1.0,
-            dt=dt,
-            t_end=steps * dt,
+            ga.Grid(n_cells=n, length=1.0, dt=dt, t_end=steps * dt),
             y0=y,
             left=left,
             right=right,
-            source=(model.external_force(f), None),
-            record={"u3": ("u3", -1)},
+            sources=ga.Sources(separable=(model.external_force(f), None)),
+            output=ga.Output(record={"u3": ("u3", -1)}),
         )
         t_step = run.wall_time / run.steps
         print(

@@ -113,10 +113,7 @@ def test_second_order_in_time_wave_exact(lam_t):
     for dt in dts:
         run = ga.integrate(
             system,
-            n_cells=n,
-            length=1.0,
-            dt=dt,
-            t_end=T,
+            ga.Grid(n_cells=n, length=1.0, dt=dt, t_end=T),
             y0=exact(s, 0.0),
             y_t0=(exact(s, 1e-7) - exact(s, -1e-7)) / 2e-7,
             left=left,
@@ -144,15 +141,12 @@ def _pulse_run(lam_t, courant, steps, n=60):
     every = steps // 10
     run = ga.integrate(
         system,
-        n_cells=n,
-        length=1.0,
-        dt=dt,
-        t_end=steps * dt,
+        ga.Grid(n_cells=n, length=1.0, dt=dt, t_end=steps * dt),
         y0=y0,
         left=ga.Boundary.fields(system, ["w3"]),
         right=ga.Boundary.fields(system, ["w3"]),
         scheme=ga.Scheme(-1.0, lam_t),
-        snapshots=list(dt * np.arange(0, steps + 1, every)),
+        output=ga.Output(snapshots=list(dt * np.arange(0, steps + 1, every))),
     )
     energy = np.array([model.energy(y, 1.0 / n) for y in run.snapshots])
     return run, energy
@@ -191,10 +185,7 @@ def test_spatial_damping_is_unstable():
     with pytest.raises(ga.ConvergenceError, match="t="):
         ga.integrate(
             system,
-            n_cells=n,
-            length=1.0,
-            dt=dt,
-            t_end=100 * dt,
+            ga.Grid(n_cells=n, length=1.0, dt=dt, t_end=100 * dt),
             y0=y0,
             left=bc,
             right=bc,
@@ -203,22 +194,19 @@ def test_spatial_damping_is_unstable():
     dt = 100.0 / n / model.rod.c
     run = ga.integrate(
         system,
-        n_cells=n,
-        length=1.0,
-        dt=dt,
-        t_end=2000 * dt,
+        ga.Grid(n_cells=n, length=1.0, dt=dt, t_end=2000 * dt),
         y0=y0,
         left=bc,
         right=bc,
         scheme=scheme,
-        snapshots=[0.0, 2000 * dt],
+        output=ga.Output(snapshots=[0.0, 2000 * dt]),
     )
     e0, e1 = (model.energy(y, 1.0 / n) for y in run.snapshots)
     assert e1 > 1.05 * e0
 
 
 # ------------------------------------------------------------------ quadrature rules
-def _buckling_like(quadrature, n=16, dt=2e-3, t_end=0.3, scheme=None, newton=None, **kw):
+def _buckling_like(quadrature, n=16, dt=2e-3, t_end=0.3, scheme=None, newton=None, stops=None):
     """Beyond the critical twist with a large seed: the rod bends within 0.3 s."""
     model = Cosserat(Rod())
     system = model.system()
@@ -235,18 +223,15 @@ def _buckling_like(quadrature, n=16, dt=2e-3, t_end=0.3, scheme=None, newton=Non
     times = list(np.arange(0, t_end + 1e-12, 0.05))
     run = ga.integrate(
         system,
-        n_cells=n,
-        length=1.0,
-        dt=dt,
-        t_end=t_end,
+        ga.Grid(n, 1.0, dt, t_end),
         y0=y0,
         left=left,
         right=right,
         scheme=scheme or ga.Scheme(quadrature=quadrature),
-        source=(model.external_force(f), None),
-        snapshots=times,
         newton=newton or ga.Newton(tol=1e-12),
-        **kw,
+        sources=ga.Sources(separable=(model.external_force(f), None)),
+        output=ga.Output(snapshots=times),
+        stops=stops or ga.Stops(),
     )
     return model, system, run
 
@@ -272,7 +257,9 @@ def test_stop_gate_skips_only_the_calls_that_cannot_stop(control, check_every):
         scheme = ga.Scheme(control=control)
         runs.append(
             _buckling_like(
-                "trapezoidal", scheme=scheme, stop=stop, check_every=check_every, stop_gate=gate
+                "trapezoidal",
+                scheme=scheme,
+                stops=ga.Stops(test=stop, check_every=check_every, gate=gate),
             )[2]
         )
         calls.append(seen)
@@ -312,14 +299,15 @@ def _tiny_problem():
     system = Torsion().system()
     n = 4
     return system, dict(
-        n_cells=n,
-        length=1.0,
-        dt=1e-3,
-        t_end=1e-2,
+        grid=dict(n_cells=n, length=1.0, dt=1e-3, t_end=1e-2),
         y0=np.zeros((n + 1, 2)),
         left=ga.Boundary.fields(system, ["w3"]),
         right=ga.Boundary.fields(system, ["w3"]),
     )
+
+
+def _integrate(system, grid, **kw):
+    return ga.integrate(system, ga.Grid(**grid), **kw)
 
 
 @pytest.mark.parametrize(
@@ -334,29 +322,34 @@ def _tiny_problem():
 )
 def test_bad_input_is_named(change, match):
     system, kw = _tiny_problem()
-    kw.update(change)
+    kw["grid"].update(change)
     if "n_cells" in change:
         kw["y0"] = np.zeros((change["n_cells"] + 1, 2))
     with pytest.raises(ValueError, match=match):
-        ga.integrate(system, **kw)
+        _integrate(system, **kw)
+
+
+def test_bad_record_every_is_named():
+    with pytest.raises(ValueError, match="record_every=0 must be an integer >= 1"):
+        ga.Output(every=0)
 
 
 def test_nan_initial_state_is_rejected():
     system, kw = _tiny_problem()
     kw["y0"][2, 0] = np.nan
     with pytest.raises(ValueError, match="y0 contains NaN"):
-        ga.integrate(system, **kw)
+        _integrate(system, **kw)
 
 
 def test_wrong_shapes_are_rejected():
     system, kw = _tiny_problem()
     kw["y0"] = np.zeros((3, 2))
     with pytest.raises(ValueError, match="y0 has shape"):
-        ga.integrate(system, **kw)
+        _integrate(system, **kw)
     system, kw = _tiny_problem()
     kw["right"] = ga.Boundary.fields(system, ["w3", "k3"])
     with pytest.raises(ValueError, match="nb_left \\+ nb_right"):
-        ga.integrate(system, **kw)
+        _integrate(system, **kw)
 
 
 def test_newton_options_are_checked():
@@ -372,7 +365,7 @@ def test_failed_newton_reports_time_step_iterations_residual():
     system, kw = _tiny_problem()
     kw["left"] = ga.Boundary(kw["left"].rows, lambda t: np.where(t > 4.5e-3, np.nan, 0.0)[:, None])
     with pytest.raises(ValueError, match="not finite"):
-        ga.integrate(system, **kw)
+        _integrate(system, **kw)
     err = ga.ConvergenceError(0.25, 250, 7, 3.5e-2, "damping")
     assert (err.t, err.step, err.iterations, err.residual) == (0.25, 250, 7, 3.5e-2)
     assert "t=0.25" in str(err) and "step 250" in str(err) and "7 iterations" in str(err)
@@ -403,10 +396,7 @@ def test_max_iter_failure_raises_convergence_error(newton):
     with pytest.raises(ga.ConvergenceError) as info:
         ga.integrate(
             system,
-            n_cells=n,
-            length=1.0,
-            dt=1e-2,
-            t_end=0.1,
+            ga.Grid(n_cells=n, length=1.0, dt=1e-2, t_end=0.1),
             y0=y0,
             left=left,
             right=right,
@@ -425,21 +415,17 @@ def test_records_snapshots_and_stop():
     y0 = _pulse(n, centre=0.5, width=0.1)
     dt = 1e-4
     kw = dict(
-        n_cells=n,
-        length=1.0,
-        dt=dt,
-        t_end=100 * dt,
         y0=y0,
         left=ga.Boundary.fields(system, ["w3"]),
         right=ga.Boundary.fields(system, ["w3"]),
     )
-    full = ga.integrate(system, record={"k_mid": ("k3", 10)}, **kw)
+    grid = ga.Grid(n, 1.0, dt, 100 * dt)
+    full = ga.integrate(system, grid, output=ga.Output(record={"k_mid": ("k3", 10)}), **kw)
     sparse = ga.integrate(
         system,
-        record={"k_mid": ("k3", 10)},
-        record_every=7,
-        snapshots=[0.0, 50 * dt],
-        check_every=13,
+        grid,
+        output=ga.Output(record={"k_mid": ("k3", 10)}, every=7, snapshots=[0.0, 50 * dt]),
+        stops=ga.Stops(check_every=13),
         **kw,
     )
     assert full.t.size == 101 and np.allclose(full.t, dt * np.arange(101))
@@ -448,7 +434,10 @@ def test_records_snapshots_and_stop():
     assert np.array_equal(sparse.y, full.y)  # chunking does not change the numbers
     assert sparse.snapshot(50 * dt)[10, 0] == full["k_mid"][50]
     stopped = ga.integrate(
-        system, stop=lambda t, y: "half" if t >= 50 * dt else None, check_every=10, **kw
+        system,
+        grid,
+        stops=ga.Stops(test=lambda t, y: "half" if t >= 50 * dt else None, check_every=10),
+        **kw,
     )
     assert stopped.stopped == "half" and stopped.steps == 50
 

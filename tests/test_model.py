@@ -79,14 +79,11 @@ def test_uniform_twist_is_an_exact_discrete_equilibrium():
     right = ga.Boundary.fields(system, list(EQ30.right))
     run = ga.integrate(
         system,
-        n_cells=n,
-        length=1.0,
-        dt=1e-3,
-        t_end=10.0,
+        ga.Grid(n_cells=n, length=1.0, dt=1e-3, t_end=10.0),
         y0=y0,
         left=left,
         right=right,
-        record={"u3": ("u3", -1)},
+        output=ga.Output(record={"u3": ("u3", -1)}),
     )
     assert run.steps == 10_000
     assert np.max(run.residuals) <= 1e-14

@@ -33,10 +33,7 @@ def _bent_step(newton, n=24, dt=0.05, steps=1):
     right = ga.Boundary.fields(system, list(EQ30.right))
     run = ga.integrate(
         system,
-        n_cells=n,
-        length=1.0,
-        dt=dt,
-        t_end=steps * dt,
+        ga.Grid(n_cells=n, length=1.0, dt=dt, t_end=steps * dt),
         y0=y0,
         left=left,
         right=right,

@@ -187,14 +187,11 @@ def test_twelve_field_model_gives_the_same_wave():
     right = ga.Boundary.fields(system, list(EQ30.right))
     run = ga.integrate(
         system,
-        n_cells=n,
-        length=L,
-        dt=dt,
-        t_end=0.01,
+        ga.Grid(n_cells=n, length=L, dt=dt, t_end=0.01),
         y0=np.zeros((n + 1, 12)),
         left=left,
         right=right,
-        snapshots=[0.005, 0.01],
+        output=ga.Output(snapshots=[0.005, 0.01]),
     )
     for i, t in enumerate((0.005, 0.01)):
         scale_k, scale_w = np.max(np.abs(reduced.kappa[i])), np.max(np.abs(reduced.omega[i]))

@@ -102,17 +102,14 @@ class Manufactured:
             )
         return ga.integrate(
             system,
-            n_cells=n_cells,
-            length=L,
-            dt=dt,
-            t_end=t_end,
+            ga.Grid(n_cells, L, dt, t_end),
             y0=y0,
             y_t0=self.y_t(s, 0.0),
             left=left,
             right=right,
             scheme=scheme,
-            source_field=self.source,
             newton=newton,
+            sources=ga.Sources(field=self.source),
         )
 
     def error(self, run: ga.Run) -> float:

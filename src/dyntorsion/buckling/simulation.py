@@ -13,7 +13,7 @@ from dataclasses import asdict
 
 import numpy as np
 
-from ..genalpha import ConvergenceError, Newton, Scheme, integrate
+from ..genalpha import ConvergenceError, Grid, Newton, Output, Scheme, Sources, Stops, integrate
 from ..genalpha.guard import check_time_grid, real
 from ..model.cosserat import Cosserat
 from ..model.ends import Ends
@@ -88,6 +88,16 @@ def _checked(hist: History, t_end: float) -> History:
 
 def _load(tension: float | AxialLoad) -> AxialLoad:
     return tension if isinstance(tension, AxialLoad) else AxialLoad(T=tension)
+
+
+#: the traces every buckling run keeps: the end displacement and the end twists and spins
+RECORDED = {
+    "u3_end": ("u3", -1),
+    "k3_left": ("k3", 0),
+    "k3_right": ("k3", -1),
+    "w3_left": ("w3", 0),
+    "w3_right": ("w3", -1),
+}
 
 
 def simulate(
@@ -188,31 +198,22 @@ def simulate(
     try:
         run = integrate(
             system,
-            n_cells=n_cells,
-            length=rod.L,
-            dt=dt,
-            t_end=t_end,
+            Grid(n_cells, rod.L, dt, t_end),
             y0=y0,
             left=left,
             right=right,
             scheme=scheme,
-            source=(q, None),
-            record={
-                "u3_end": ("u3", -1),
-                "k3_left": ("k3", 0),
-                "k3_right": ("k3", -1),
-                "w3_left": ("w3", 0),
-                "w3_right": ("w3", -1),
-            },
-            snapshots=snapshots,
             newton=newton,
-            stop=stop,
-            check_every=check_every if stop is not None else None,
-            # the contact test does nothing below STRAIGHT (the same gauge): the march
-            # skips it in long chunks (the first-peak test then starts at the first check
-            # past it: it can only stop later, never before the fall after the first peak)
-            stop_gate=(("k1", "k2"), STRAIGHT) if stop_at_contact else None,
-            progress=progress,
+            sources=Sources(separable=(q, None)),
+            output=Output(record=RECORDED, snapshots=snapshots, progress=progress),
+            stops=Stops(
+                test=stop,
+                check_every=check_every if stop is not None else None,
+                # the contact test does nothing below STRAIGHT (the same gauge): the march
+                # skips it in long chunks (the first-peak test then starts at the first check
+                # past it: it can only stop later, never before the fall after the first peak)
+                gate=(("k1", "k2"), STRAIGHT) if stop_at_contact else None,
+            ),
         )
     except ConvergenceError as raw:
         u3 = raw.run["u3_end"] if raw.run is not None else np.zeros(0)

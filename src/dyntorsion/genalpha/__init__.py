@@ -41,6 +41,7 @@ Where each part lives:
 * :mod:`.control` -- step-size control: rejected steps retried with half the step;
 * :mod:`.long` -- long steps while the solution is quiet;
 * :mod:`.watch` -- stop tests compiled, consulted by the march itself;
+* :mod:`.parts` -- the parts of a run: grid, sources, output, stops;
 * :mod:`.integrate` -- the driver (validation, sources, initial rate, recording,
   chunks between checks) and the :class:`Run`;
 * :mod:`.initial` -- consistent initial rates and states.
@@ -51,6 +52,7 @@ from .discrete import Constants, Work
 from .initial import algebraic_residual, consistent_initial_state, consistent_rates
 from .integrate import integrate, newton_iteration_kernel
 from .newton import ConvergenceError, Newton, Outcome, Status
+from .parts import Grid, Output, Sources, Stops
 from .run import Run
 from .scheme import (
     QUADRATURES,
@@ -74,6 +76,10 @@ __all__ = [
     "ConvergenceError",
     "Run",
     "integrate",
+    "Grid",
+    "Sources",
+    "Output",
+    "Stops",
     "consistent_rates",
     "algebraic_residual",
     "consistent_initial_state",

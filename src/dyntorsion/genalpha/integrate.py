@@ -5,10 +5,7 @@ recording part (:mod:`.recording`) and followed by the stopping part's checks
 
 from __future__ import annotations
 
-import math
 import time
-from collections.abc import Callable, Mapping, Sequence
-from typing import Any
 
 import numpy as np
 
@@ -17,38 +14,25 @@ from .discrete import setup
 from .guard import check_memory, check_time, check_time_grid
 from .march import full_newton_iterations
 from .newton import Newton
+from .parts import Grid, Output, Sources, Stops
 from .plan import Levels, Plan, Source, gate_of, initial_rate
 from .recording import Recorder
 from .run import Run
 from .scheme import Scheme
 from .stepping import Stepper
 from .stopping import CHUNK_WORK, Stopper, act_on, deferred_signals
-from .watch import CompiledStop
 
 __all__ = ["integrate", "newton_iteration_kernel"]
 
 
-def _check_positive(name: str, value: float) -> None:
-    if not (
-        isinstance(value, int | float | np.floating | np.integer)
-        and math.isfinite(value)
-        and value > 0
-    ):
-        raise ValueError(f"{name}={value!r} must be a finite number > 0")
-
-
-def _validate(system, n_cells, length, dt, t_end, t0, record_every, y0, left, right):
-    """The arguments of :func:`integrate` that need no other context; y0 as an array."""
-    if not isinstance(n_cells, int | np.integer) or n_cells < 2:
-        raise ValueError(f"n_cells={n_cells!r} must be an integer >= 2")
-    _check_positive("length", length)
-    check_time_grid(dt, t_end, t0)
-    if not (isinstance(record_every, int) and record_every >= 1):
-        raise ValueError(f"record_every={record_every!r} must be an integer >= 1")
+def _validate(system: System, grid: Grid, y0, left: Boundary, right: Boundary) -> np.ndarray:
+    """The state and boundary rows against the system and the grid; y0 as an array."""
     nf = system.nf
     y0 = np.array(y0, dtype=float)
-    if y0.shape != (n_cells + 1, nf):
-        raise ValueError(f"y0 has shape {y0.shape}, expected (n_cells+1, nf) = {(n_cells + 1, nf)}")
+    if y0.shape != (grid.n_cells + 1, nf):
+        raise ValueError(
+            f"y0 has shape {y0.shape}, expected (n_cells+1, nf) = {(grid.n_cells + 1, nf)}"
+        )
     if not np.all(np.isfinite(y0)):
         raise ValueError("y0 contains NaN or inf")
     if left.rows.shape[1] != nf or right.rows.shape[1] != nf or left.nb + right.nb != nf:
@@ -61,35 +45,23 @@ def _validate(system, n_cells, length, dt, t_end, t0, record_every, y0, left, ri
 
 def integrate(
     system: System,
+    grid: Grid,
     *,
-    n_cells: int,
-    length: float,
-    dt: float,
-    t_end: float,
     y0: np.ndarray,
     left: Boundary,
     right: Boundary,
     scheme: Scheme = Scheme(),
-    t0: float = 0.0,
-    y_t0: np.ndarray | str = "consistent",
-    source: tuple[np.ndarray, Callable[[np.ndarray], np.ndarray] | None] | None = None,
-    source_field: Callable[[np.ndarray, float], np.ndarray] | None = None,
-    record: Mapping[str, tuple[str | int, int]] | None = None,
-    record_every: int = 1,
-    snapshots: Sequence[float] = (),
     newton: Newton = Newton(),
-    stop: Callable[[float, np.ndarray], str | None] | CompiledStop | None = None,
-    check_every: int | None = None,
-    stop_gate: tuple[Sequence[str], float] | None = None,
-    progress: bool | None = None,
-    meta: Mapping[str, Any] | None = None,
+    sources: Sources = Sources(),
+    output: Output = Output(),
+    stops: Stops = Stops(),
+    y_t0: np.ndarray | str = "consistent",
 ) -> Run:
-    """Integrate ``system`` from t0 to t_end with the generalised-alpha scheme.
+    """Integrate ``system`` over ``grid`` (t0 to t_end) with the generalised-alpha scheme.
 
     Parameters
     ----------
-    n_cells : number of cells N >= 2 (nodes s_j = j * length / N).
-    dt : time step > 0; the run takes ceil((t_end - t0) / dt) steps.
+    grid : the nodes and time levels (:class:`~.parts.Grid`).
     y0 : initial state (N+1, nf), finite.  At lam_t = -1 the rows without a time
         derivative (inextensibility) obey R^i = -R^{i-1} in time, so a y0 that
         violates their discrete form keeps an undamped (-1)^i oscillation that
@@ -97,40 +69,29 @@ def integrate(
         :func:`consistent_initial_state` first.  The paper's straight initial
         states satisfy the discrete equations exactly.
     left, right : boundary rows at s = 0 and s = length (nb_left + nb_right = nf).
+    scheme : eq (13)'s parameters; with ``scheme.control`` (a :class:`StepControl`) a step
+        whose Newton solve fails is retried with half the step (:mod:`.control`); the fixed
+        grid of dt is kept and every recorded level lies on it.  With ``scheme.long_steps``
+        (a :class:`LongSteps`) the run starts with steps of a multiple of dt while the
+        solution is quiet (:mod:`.long`), recording only the levels they reach.
+    newton : the solve of each step (:class:`~.newton.Newton`).
+    sources, output, stops : the source q(s, t), what is kept and when the run may end
+        early (:mod:`.parts`).
     y_t0 : initial time derivative (N+1, nf), or "consistent" (from the equations,
         see :func:`consistent_rates`), or "zero".  Irrelevant at lam_t = -1.
-    source : (q_space (N+1, nf), g) for a separable source q(s, t) = q_space(s) g(t)
-        (g maps an array of times to an array; None means g = 1).
-    source_field : callable (s, t) -> (N+1, nf) for a general source.
-    record : name -> (field, node) recorded every ``record_every`` steps.
-    snapshots : times at which the whole state is kept (nearest time level).
-    scheme : with ``scheme.control`` (a :class:`StepControl`) a step whose Newton solve
-        fails is retried with half the step (:mod:`.control`); the fixed grid of dt
-        is kept and every recorded level lies on it.  With ``scheme.long_steps`` (a
-        :class:`LongSteps`) the run starts with steps of a multiple of dt while the
-        solution is quiet (:mod:`.long`), recording only the levels they reach.
-    stop : callable (t, y) -> reason or None, checked every ``check_every`` steps (and
-        at the snapshots), or a :class:`~.watch.CompiledStop` consulted at the same
-        levels by the compiled march itself.
-    stop_gate : (fields, limit): ``stop`` is known to return None at every level y
-        with ``ds * sum_j norm(y_j[fields]) < limit`` (the Euclidean norm over the
-        fields), so until the first level at which that sum reaches ``limit`` (checked
-        after every step, in compiled code) it is not called and the steps run in long
-        chunks; from then on as without the gate.  Same levels, same calls of ``stop``
-        where they can matter, less overhead.
-    progress : show a progress bar (None: only for long runs on a terminal).
     """
     t_start = time.perf_counter()
-    y0 = _validate(system, n_cells, length, dt, t_end, t0, record_every, y0, left, right)
-    n_cells = int(n_cells)
+    y0 = _validate(system, grid, y0, left, right)
+    n_cells, length, dt, t_end, t0 = grid.n_cells, grid.length, grid.dt, grid.t_end, grid.t0
+    record, record_every, snapshots = output.record, output.every, output.snapshots
+    stop, check_every = stops.test, stops.check_every
     n1, nf = n_cells + 1, system.nf
-    ds = length / n_cells
-    s = np.linspace(0.0, length, n1)
+    ds, s = grid.ds, grid.s
     n_steps = check_time_grid(dt, t_end, t0, snapshots, check_every)
     check_memory(n_steps, n1, nf, len(record or {}), len(snapshots))
     check_time(n_steps, n1, nf)
     times = t0 + dt * np.arange(n_steps + 1)
-    src = Source.of(s, nf, source, source_field)
+    src = Source.of(s, nf, sources.separable, sources.field)
     rate0 = initial_rate(system, y0, ds, y_t0, src, t0)
     con, work, fac = setup(system, scheme, n_cells, ds, dt, left, right, y0, rate0)
     plan = Plan.of(system, n1, n_steps, t0, dt, record, record_every, snapshots, stop, check_every)
@@ -138,9 +99,9 @@ def integrate(
     ctx = (con, work, fac, newton.options())
     stepper = Stepper(system, scheme, ds, dt, left, right, levels, ctx, t0)
     recorder = Recorder(plan, times, y0, record_every)
-    stopper = Stopper(stop, gate_of(system, stop_gate, ds, stop), plan, n_steps, work.y_old)
+    stopper = Stopper(stop, gate_of(system, stops.gate, ds, stop), plan, n_steps, work.y_old)
     stopped, failure, done = "t_end", None, 0
-    bar = _progress_bar(progress, n_steps, n1, nf)
+    bar = _progress_bar(output.progress, n_steps, n1, nf)
     cap = max(1, CHUNK_WORK // (n1 * nf))  # steps a chunk may take before Python sees a signal
     with deferred_signals() as caught:
         try:
@@ -208,7 +169,7 @@ def integrate(
             "scheme": scheme.params(),
             **stepper.summary(done),
             "newton": newton.__dict__.copy(),
-            **(meta or {}),
+            **(output.meta or {}),
         },
     )
     if failure is not None:

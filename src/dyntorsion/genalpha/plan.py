@@ -151,7 +151,7 @@ class Plan:
 
 
 def gate_of(system, stop_gate, ds: float, stop) -> Gate:
-    """The compiled :class:`~.march.Gate` of ``integrate(stop_gate=(fields, limit))``."""
+    """The compiled :class:`~.march.Gate` of ``integrate(stops=Stops(gate=(fields, limit)))``."""
     if stop_gate is None or stop is None:
         return NO_GATE
     names, limit = stop_gate

@@ -9,7 +9,7 @@ from typing import Any
 
 import numpy as np
 
-from ..genalpha import Boundary, Newton, Run, Scheme, System, integrate
+from ..genalpha import Boundary, Grid, Newton, Output, Run, Scheme, System, integrate
 from ..model.rod import Rod
 from .checks import _positive_number
 from .dalembert import instant_release_dalembert, linear_loading_dalembert, smooth_release_dalembert
@@ -146,18 +146,16 @@ def solve(
     scheme = Scheme(lam_s=lam_s, lam_t=lam_t, quadrature=quadrature)
     run = integrate(
         system,
-        n_cells=int(n_cells),
-        length=rod.L,
-        dt=dt,
-        t_end=float(times_arr.max()),
+        Grid(int(n_cells), rod.L, dt, float(times_arr.max())),
         y0=y0,
         left=left,
         right=right,
         scheme=scheme,
-        y_t0="zero",
-        snapshots=list(times_arr),
         newton=newton,
-        meta={"problem": repr(problem), "rod": rod.as_dict()},
+        output=Output(
+            snapshots=list(times_arr), meta={"problem": repr(problem), "rod": rod.as_dict()}
+        ),
+        y_t0="zero",
     )
     snaps = np.array([run.snapshot(ti) for ti in times_arr])
     return WaveSolution(
