@@ -60,6 +60,12 @@ def _buckle(args: argparse.Namespace) -> int:
                 f"{peak:.4f} 1/m), so the straight rod is stable: no buckling to find"
             )
             return 0
+    if row["status"] == "unclassified":
+        print(
+            f"onset      t_c = {row['t_c']:.4f} s, kappa3 = {row['kappa3']:.4f} 1/m: unclassified, "
+            "no static kappa_cri for this scene tells an instability from a rod bent by its seed"
+        )
+        return 1
     if row["status"] != "buckled":
         why = row.get("onset_error") or "no onset detected before the run ended"
         print(why if row["status"] != "forced" else f"{why} (t_c is no critical time)")

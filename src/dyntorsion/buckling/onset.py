@@ -74,7 +74,7 @@ def check_window(window, variations=()) -> None:
 
 
 #: what an onset record says happened (:func:`classify_onset`)
-STATUSES = ("buckled", "forced", "no-onset", "failed")
+STATUSES = ("buckled", "forced", "unclassified", "no-onset", "failed")
 
 
 def classify_onset(run: BucklingRun, onset: Onset | None, kappa_cri: float | None) -> str:
@@ -83,13 +83,14 @@ def classify_onset(run: BucklingRun, onset: Onset | None, kappa_cri: float | Non
     ``|kappa3(0, t)|`` reaches kappa_cri: the seed bent the rod, not the instability),
     ``"no-onset"`` (the run ended, at t_end or self-contact, without one) or ``"failed"``
     (a Newton failure ended it without one).  With ``kappa_cri=None`` (no static theory
-    for the scene) an onset at t_c >= 0 counts as buckled."""
+    for the scene) an onset at t_c >= 0 is ``"unclassified"``: without kappa_cri nothing
+    tells an instability from a rod bent by its seed, so such a run never says buckled."""
     if onset is None:
         return "failed" if run.stopped.startswith("failed") else "no-onset"
     if onset.t_c < run.t[0]:
         return "forced"
     if kappa_cri is None:
-        return "buckled"
+        return "unclassified"
     upto = np.abs(run.kappa3_left[run.t <= onset.t_c])
     passed = max(float(upto.max(initial=0.0)), abs(float(run.end_twist(onset.t_c))))
     return "buckled" if passed >= kappa_cri else "forced"

@@ -289,6 +289,13 @@ def simulated(scene: Scene) -> tuple[BucklingRun, float | None, dict[str, Any]]:
     return run, kc, {"stopped": run.stopped, "steps": int(run.t.size - 1), "kappa_cri": kc}
 
 
+#: why an onset of a scene without a static critical twist is ``"unclassified"``
+UNCLASSIFIED = (
+    "unclassified: no static kappa_cri for this scene (its ends or section are outside the "
+    "static theory), so nothing tells a delayed instability from a rod bent by its seed"
+)
+
+
 def run_scene(scene: Scene) -> dict[str, Any]:
     """Simulate one scene and detect its onset (section 6): a JSON-ready dict whose
     ``status`` says what happened (:func:`~dyntorsion.buckling.onset.classify_onset`: only
@@ -321,7 +328,7 @@ def run_scene(scene: Scene) -> dict[str, Any]:
     )
     out.update(
         status=status,
-        onset_error=forced if status == "forced" else None,
+        onset_error={"forced": forced, "unclassified": UNCLASSIFIED}.get(status),
         t_c=onset.t_c,
         kappa3=onset.kappa3,
         uncertainty_t=onset.uncertainty_t,

@@ -176,59 +176,107 @@ def _end_rows(ends: str, b1: float, b2: float, m: float, kappa: float) -> np.nda
     return rows
 
 
-def _end_matrix(rod: Rod, tension: float, ends: str, kappa_L: float) -> np.ndarray:
-    """The 8 x 8 matrix of the end conditions at s = 0 and s = L (z(L) = expm(A L) z(0))."""
+def _end_matrix(rod: Rod, tension: float, ends: str, kappa_L: float, d=None) -> np.ndarray:
+    """The 8 x 8 matrix of the end conditions at s = 0 and s = L (z(L) = expm(A L) z(0)),
+    in balanced variables z = D x: A's entries reach (B2/B1) (kappa L)^2 for a flat
+    section, so expm(A) is formed as D expm(D^-1 A D) D^-1 with the diagonal D of
+    :func:`scipy.linalg.matrix_balance` (powers of 2; computed at this twist unless ``d``
+    is given) and the columns are taken times D: det = det(unbalanced) * prod(d), the same
+    sign, and a smooth function of the twist for a fixed ``d``."""
     B = rod.B
     b1, b2 = rod.B1 / B, rod.B2 / B
     m = rod.C * kappa_L / B
     t = tension * rod.L**2 / B
     rows = _end_rows(ends, b1, b2, m, kappa_L)
-    P = scipy.linalg.expm(_system_matrix(b1, b2, m, kappa_L, t))
+    A = _system_matrix(b1, b2, m, kappa_L, t)
+    if d is None:
+        d = _balance(A)
+    P = scipy.linalg.expm(A * d[None, :] / d[:, None])
+    rows = rows * d[None, :]
     return np.vstack([rows, rows @ P])
 
 
-def _singularity(rod: Rod, tension: float, ends: str, kappa_L: float) -> float:
-    """sigma_min / sigma_max of the end-condition matrix at twist kappa_L / L."""
-    s = np.linalg.svd(_end_matrix(rod, tension, ends, kappa_L), compute_uv=False)
+def _balance(A: np.ndarray) -> np.ndarray:
+    return scipy.linalg.matrix_balance(A, permute=False, separate=True)[1][0]
+
+
+def _balance_at(rod: Rod, tension: float, ends: str, kappa_L: float) -> np.ndarray:
+    B = rod.B
+    m, t = rod.C * kappa_L / B, tension * rod.L**2 / B
+    return _balance(_system_matrix(rod.B1 / B, rod.B2 / B, m, kappa_L, t))
+
+
+def _smallness(M: np.ndarray) -> float:
+    """sigma_min / sigma_max of M with unit rows (0 at a root; scale-free)."""
+    s = np.linalg.svd(M / np.linalg.norm(M, axis=1, keepdims=True), compute_uv=False)
     return float(s[-1] / s[0])
+
+
+#: ratio of successive twists of the scan: the first root is separated from the next by
+#: far more (the modes of a rod), a close pair near the isotropic rod is found inside one
+SCAN_RATIO = 1.01
 
 
 def critical_twist_transfer(rod: Rod, tension: float = 0.0, ends: str = "clamped") -> float:
     """kappa_cri [1/m] of any section (B1, B2) by the body-frame transfer matrix (module
-    docstring): the first twist at which the end-condition matrix is singular, found as
-    the first local minimum of its smallest singular value that reaches zero (a grid
-    scan, then a golden-section search to 1e-14 relative)."""
+    docstring): the first twist at which the end-condition matrix is singular.  A scan in
+    twists of ratio :data:`SCAN_RATIO` watches the sign of the determinant (balanced, see
+    :func:`_end_matrix`) and the local minima of sigma_min/sigma_max; a sign change is a
+    simple root, a minimum without one may hold a close pair (a nearly isotropic section
+    splits the isotropic double root), found as the dip of the determinant below zero
+    between its neighbours; the lowest root is refined by Brent's method to 1e-15."""
     T = _check(rod, tension, ends)
     iso = greenhill_pinned if ends == "pinned" else greenhill_clamped
     guess = iso(rod.B, rod.L, T) * rod.L / rod.C  # isotropic twist with the weaker B, times L
     top = guess * 3.0 * max(rod.B1, rod.B2) / rod.B
-    grid = np.linspace(guess * 0.05, top, 1200)
-    vals = np.array([_singularity(rod, T, ends, k) for k in grid])
-    for i in range(1, grid.size - 1):
-        if vals[i] <= vals[i - 1] and vals[i] <= vals[i + 1]:
-            k, v = _golden(lambda k: _singularity(rod, T, ends, k), grid[i - 1], grid[i + 1])
-            if v < 1e-9:
-                return _lowest_below(rod, T, ends, grid[i - 1], k) / rod.L
+    ks, signs, small = [], [], []
+    k = guess * 0.05
+    while k < top:
+        M = _end_matrix(rod, T, ends, k)
+        ks.append(k)
+        signs.append(np.linalg.slogdet(M)[0])
+        small.append(_smallness(M))
+        i = len(ks) - 1
+        if i >= 1 and signs[i] != signs[i - 1] and signs[i] != 0:
+            return _refine(rod, T, ends, ks[i - 1], ks[i]) / rod.L
+        if i >= 2 and small[i - 1] <= min(small[i - 2], small[i]):
+            root = _close_pair(rod, T, ends, ks[i - 2], ks[i - 1], ks[i])
+            if root is not None:
+                return root / rod.L
+        k *= SCAN_RATIO
     raise ValueError(f"no critical twist found below {top / rod.L:.4g} 1/m")
 
 
-def _lowest_below(rod: Rod, T: float, ends: str, lo: float, k: float) -> float:
-    """A nearly isotropic section splits the double root of the isotropic rod into two
-    close simple roots, which one minimum of sigma_min may hold together: deflate the
-    determinant by the root k found and take a sign change below it, if there is one."""
+def _signed(rod: Rod, T: float, ends: str, mid: float):
+    d = _balance_at(rod, T, ends, mid)
+    return lambda x: float(np.linalg.det(_end_matrix(rod, T, ends, x, d)))
 
-    def g(x: float) -> float:
-        return float(np.linalg.det(_end_matrix(rod, T, ends, x))) / (x - k)
 
-    hi = k * (1 - 1e-9)
-    if hi > lo and np.sign(g(lo)) != np.sign(g(hi)):
-        return float(scipy.optimize.brentq(g, lo, hi, xtol=1e-15 * k, rtol=1e-15))
-    return k
+def _refine(rod: Rod, T: float, ends: str, lo: float, hi: float) -> float:
+    """The root of the determinant in [lo, hi] (a sign change), by Brent's method."""
+    f = _signed(rod, T, ends, 0.5 * (lo + hi))
+    return float(scipy.optimize.brentq(f, lo, hi, xtol=1e-15 * hi, rtol=1e-15))
+
+
+def _close_pair(rod: Rod, T: float, ends: str, lo: float, mid: float, hi: float):
+    """The lower root of a pair inside [lo, hi] (no sign change at the ends), or None:
+    the determinant's extremum between them, if it crosses zero, separates the pair; if it
+    touches zero (sigma_min / sigma_max below :data:`DOUBLE_ROOT`) it is a double root,
+    the isotropic rod's."""
+    f = _signed(rod, T, ends, mid)
+    sign = np.sign(f(lo))
+    k, v = _golden(lambda x: sign * f(x), lo, hi)
+    if v >= 0.0:
+        return k if _smallness(_end_matrix(rod, T, ends, k)) < DOUBLE_ROOT else None
+    return float(scipy.optimize.brentq(f, lo, k, xtol=1e-15 * k, rtol=1e-15))
+
+
+#: sigma_min / sigma_max at an extremum of the determinant that counts as a double root
+DOUBLE_ROOT = 1e-9
 
 
 def _golden(f, lo: float, hi: float, rtol: float = 1e-14) -> tuple[float, float]:
-    """Minimum of a unimodal f on [lo, hi] by golden-section search (a V-shaped minimum,
-    where parabolic steps stall at sqrt(eps))."""
+    """Minimum of a unimodal f on [lo, hi] by golden-section search."""
     g = (math.sqrt(5.0) - 1.0) / 2.0
     a, b = lo, hi
     c, d = b - g * (b - a), a + g * (b - a)

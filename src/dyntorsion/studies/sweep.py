@@ -14,7 +14,6 @@ them all.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any, Unpack
@@ -74,11 +73,13 @@ def _legacy_status(scene: Scene, res: Mapping[str, Any]) -> str:
     ``on_stale="accept"``): from its t_c and kappa3 alone."""
     if res["t_c"] is None:
         return "failed" if res["stopped"].startswith("failed") else "no-onset"
+    if res["t_c"] < 0:
+        return "forced"
     try:
         kc = scene.kappa_cri()
     except ValueError:
-        kc = -math.inf
-    return "buckled" if res["t_c"] >= 0 and abs(res["kappa3"]) >= kc else "forced"
+        return "unclassified"
+    return "buckled" if abs(res["kappa3"]) >= kc else "forced"
 
 
 def run_sweep(
