@@ -74,7 +74,7 @@ def check_window(window, variations=()) -> None:
 
 
 #: what an onset record says happened (:func:`classify_onset`)
-STATUSES = ("buckled", "forced", "unclassified", "no-onset", "failed")
+STATUSES = ("buckled", "forced", "unclassified", "unresolved", "no-onset", "failed")
 
 
 def classify_onset(run: BucklingRun, onset: Onset | None, kappa_cri: float | None) -> str:
@@ -82,7 +82,9 @@ def classify_onset(run: BucklingRun, onset: Onset | None, kappa_cri: float | Non
     static critical twist ``kappa_cri``), ``"forced"`` (an onset before t = 0 or before
     ``|kappa3(0, t)|`` reaches kappa_cri: the seed bent the rod, not the instability),
     ``"no-onset"`` (the run ended, at t_end or self-contact, without one) or ``"failed"``
-    (a Newton failure ended it without one).  With ``kappa_cri=None`` (no static theory
+    (a Newton failure ended it without one); :func:`~dyntorsion.buckling.scene.run_scene`
+    turns a ``"no-onset"`` whose grid could not resolve the growth into ``"unresolved"``
+    (:mod:`~dyntorsion.buckling.resolution`).  With ``kappa_cri=None`` (no static theory
     for the scene) an onset at t_c >= 0 is ``"unclassified"``: without kappa_cri nothing
     tells an instability from a rod bent by its seed, so such a run never says buckled."""
     if onset is None:

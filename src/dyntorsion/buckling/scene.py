@@ -23,6 +23,7 @@ from ..model.rod import Rod
 from .delay_law import paper_law
 from .loading import ENDS, AxialLoad, History, Ramp, history_from_params
 from .onset import WINDOW, check_window, classify_onset, detect_onset
+from .resolution import judge
 from .run import BucklingRun
 from .seed import Perturbation
 from .simulation import _load, simulate
@@ -289,6 +290,25 @@ def simulated(scene: Scene) -> tuple[BucklingRun, float | None, dict[str, Any]]:
     return run, kc, {"stopped": run.stopped, "steps": int(run.t.size - 1), "kappa_cri": kc}
 
 
+def _unresolved(scene: Scene, run: BucklingRun, kc: float | None) -> dict[str, Any]:
+    """``status="unresolved"``, why, and the grid that would resolve the growth, for a run
+    without an onset whose grid could not see it (:func:`.resolution.judge`); else {}."""
+    if kc is None or scene.seed.magnitude == 0.0 or run.t.size < 2:
+        return {}
+    t = np.union1d(run.t, np.linspace(run.t[0], run.t[-1], 100_001))
+    load = _load(scene.tension)
+    res = judge(
+        scene.rod, t, run.end_twist(t), load(t), kc, scene.n_cells, scene.dt
+    )  # fmt: skip
+    if res is None or res.resolved:
+        return {}
+    return {
+        "status": "unresolved",
+        "onset_error": res.message(scene.n_cells, scene.dt),
+        "needed": {"n_cells": res.n_cells, "dt": res.dt},
+    }
+
+
 #: why an onset of a scene without a static critical twist is ``"unclassified"``
 UNCLASSIFIED = (
     "unclassified: no static kappa_cri for this scene (its ends or section are outside the "
@@ -319,6 +339,8 @@ def run_scene(scene: Scene) -> dict[str, Any]:
             uncertainty_kappa3=None,
             t_ref=None,
         )
+        if out["status"] == "no-onset":
+            out.update(_unresolved(scene, run, kc))
         return out
     status = classify_onset(run, onset, kc)
     passes = "t = 0" if kc is None else f"the end twist passes kappa_cri = {kc:.4g} 1/m"
