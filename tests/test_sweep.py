@@ -352,3 +352,11 @@ def test_model_switches_name_the_scene_and_reach_the_model():
         for name, sc in (("base", base), ("gyro", gyro), ("heavy", heavy))
     }
     assert t_c["gyro"] != t_c["base"] and t_c["heavy"] != t_c["base"]
+
+
+def test_cached_map_names_an_unknown_option(tmp_path):
+    """The options of cached_map are MapOptions, named once; a misspelt one is refused."""
+    from dyntorsion.store.workers import cached_map
+
+    with pytest.raises(TypeError, match=r"unknown option\(s\) \['job'\]; allowed: .*'jobs'"):
+        cached_map([], lambda item: {}, "buckling-onset", tmp_path, job=2)

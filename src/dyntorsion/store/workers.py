@@ -25,12 +25,12 @@ import time
 from collections import deque
 from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import Any, TypedDict
+from typing import Any, TypedDict, Unpack
 
 from .leases import LEASE_SUFFIX, holder_of
 from .results import Store
 
-__all__ = ["MapOptions", "cached_map", "MissingResultError", "WAIT_POLL_S"]
+__all__ = ["MapOptions", "DEFAULT_OPTIONS", "cached_map", "MissingResultError", "WAIT_POLL_S"]
 
 
 #: how often a sweep looks for a record another sweep is computing [s]
@@ -45,6 +45,18 @@ class MapOptions(TypedDict, total=False):
     progress: bool | None
     log: Callable[[str], None] | None
     on_corrupt: str
+
+
+#: the value of each :class:`MapOptions` entry a caller leaves out
+DEFAULT_OPTIONS: MapOptions = {
+    "executor": None,
+    "jobs": 1,
+    "on_stale": "recompute",
+    "compute": True,
+    "progress": None,
+    "log": None,
+    "on_corrupt": "quarantine",
+}
 
 
 WAIT_POLL_S = 0.5
@@ -103,15 +115,9 @@ def cached_map(
     kind: str,
     store: Store | str | Path | None = None,
     *,
-    executor: cf.Executor | None = None,
-    jobs: int = 1,
-    on_stale: str = "recompute",
-    on_corrupt: str = "quarantine",
-    compute: bool = True,
-    progress: bool | None = None,
-    log: Callable[[str], None] | None = None,
     show: str | None = None,
     command: str = "dyntorsion sweep",
+    **options: Unpack[MapOptions],
 ) -> list[tuple[dict[str, Any], bool]]:
     """(record, cached) for each item, in order.
 
@@ -121,9 +127,21 @@ def cached_map(
     :func:`~dyntorsion.store.location.default_store`) are read; the others run on ``executor``,
     or on ``jobs`` local processes (``jobs=1``: here), each claimed by a lease first
     and written the moment it finishes.  ``show`` names a result entry for the log
-    line; ``command`` is the one the missing-result error recommends.
+    line; ``command`` is the one the missing-result error recommends; ``options`` are the
+    :class:`MapOptions` (defaults :data:`DEFAULT_OPTIONS`).
     """
     from .location import default_store
+
+    unknown = set(options) - set(DEFAULT_OPTIONS)
+    if unknown:
+        raise TypeError(
+            f"cached_map: unknown option(s) {sorted(unknown)}; allowed: {sorted(DEFAULT_OPTIONS)}"
+        )
+    opts = {**DEFAULT_OPTIONS, **options}
+    executor, jobs, on_stale, on_corrupt = (
+        opts["executor"], opts["jobs"], opts["on_stale"], opts["on_corrupt"]
+    )  # fmt: skip
+    compute, progress, log = opts["compute"], opts["progress"], opts["log"]
 
     if not isinstance(store, Store):
         store = Store(default_store() if store is None else store)
