@@ -307,10 +307,10 @@ class Custom(History):
         object.__setattr__(self, "parameters", tuple(sorted((str(k), _finite(k, v)) for k, v in p)))
 
     def __call__(self, t):
-        out = np.asarray(
-            self.func(np.asarray(t, dtype=float), **dict(self.parameters)), dtype=float
-        )
-        return np.broadcast_to(out, np.shape(t)).astype(float)
+        out = np.asarray(self.func(np.asarray(t, dtype=float), **dict(self.parameters)))
+        if out.dtype.kind not in "biuf":  # a string such as "1e7" is not a twist
+            raise TypeError(f"the function returned {out.dtype} values, not real numbers")
+        return np.broadcast_to(out.astype(float), np.shape(t)).astype(float)
 
     def source_hash(self) -> str:
         """A hash of everything ``func`` computes with (:func:`function_fingerprint`);

@@ -80,14 +80,14 @@ def stale(path: Path) -> str | None:
     """Why the lease at ``path`` no longer holds its record (None: its holder may be
     running).  Judged by its content and its heartbeat (the file's modification time)."""
     try:
-        text, mtime = path.read_text(), path.stat().st_mtime
+        text, mtime = path.read_bytes(), path.stat().st_mtime
     except FileNotFoundError:
         return None
     age = time.time() - mtime
     try:
-        held = json.loads(text)
+        held = json.loads(text)  # bytes: a torn write need not be UTF-8 (a ValueError)
         owner = str(held["owner"])
-    except (ValueError, KeyError, TypeError):
+    except (ValueError, KeyError, TypeError, RecursionError):
         if age < WRITING_S:
             return None
         return f"unreadable lease ({len(text)} bytes; a writer that failed, e.g. on a full disk)"
@@ -107,10 +107,10 @@ def stale(path: Path) -> str | None:
 def holder_of(path: Path) -> str:
     """Who holds the lease at ``path`` and since when, for a waiting run's message."""
     try:
-        held = json.loads(path.read_text())
+        held = json.loads(path.read_bytes())
         since = time.strftime("%H:%M:%S", time.localtime(held["taken"]))
         return f"{held['owner']} since {since}"
-    except (OSError, ValueError, KeyError, TypeError):
+    except (OSError, ValueError, KeyError, TypeError, RecursionError):
         return "an unknown holder"
 
 

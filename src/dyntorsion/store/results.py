@@ -203,13 +203,16 @@ class Store:
         path = Path(path)
         try:
             record = json.loads(path.read_text())
-        except (OSError, json.JSONDecodeError, UnicodeDecodeError) as err:
+        except (OSError, ValueError, RecursionError) as err:  # ValueError: also digit limit
             raise CorruptResultError(f"{path}: unreadable record ({err})") from err
         if not isinstance(record, dict) or not isinstance(record.get("params"), dict):
             raise CorruptResultError(
                 f"{path}: not a record (a JSON {type(record).__name__} without params)"
             )
-        expected = digest({k: record.get(k) for k in ("kind", "params", "result")})
+        try:
+            expected = digest({k: record.get(k) for k in ("kind", "params", "result")})
+        except ValueError as err:  # NaN or Infinity: never written by a store
+            raise CorruptResultError(f"{path}: not a record ({err})") from err
         if record.get("hash") != expected:
             raise CorruptResultError(
                 f"{path}: content hash does not match its content "
