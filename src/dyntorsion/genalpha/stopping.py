@@ -39,12 +39,14 @@ def deferred_signals():
     if threading.current_thread() is not threading.main_thread():
         yield caught
         return
-    old = {s: signal.signal(s, lambda signum, frame: caught.append(signum)) for s in _DEFERRED}
-    try:
+    old = {s: signal.getsignal(s) for s in _DEFERRED}
+    try:  # a signal between two installs still finds the old handlers restored
+        for s in _DEFERRED:
+            signal.signal(s, lambda signum, frame: caught.append(signum))
         yield caught
     finally:
         for s, handler in old.items():
-            signal.signal(s, handler)
+            signal.signal(s, signal.SIG_DFL if handler is None else handler)
         if caught:
             signal.raise_signal(caught[0])  # now under the handler that was in force
 
