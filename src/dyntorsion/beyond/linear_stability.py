@@ -311,6 +311,11 @@ class LateralModel:
         """The body-frame seed as modal rows R_p at points s_p: F_i = sum_p R_pi
         exp(i theta(s_p)), theta the angle of d1 (quadrature points for a uniform
         seed, the point itself for a point seed)."""
+        if not seed.constant:
+            raise ValueError(
+                f"seed frame={seed.frame!r}, duration={seed.duration!r}: the linear passage "
+                "takes a constant seed in the body frame"
+            )
         d = np.asarray(seed.direction, dtype=float)
         lateral = (d[0] + 1j * d[1]) * seed.magnitude
         if seed.form == "uniform":

@@ -43,10 +43,17 @@ class Prediction:
 
     def __post_init__(self) -> None:
         sc = self.scene
-        if sc.history is not None or not sc.tension.is_zero or sc.ends.name != "clamped":
+        if (
+            sc.history is not None
+            or not sc.tension.is_zero
+            or sc.ends.name != "clamped"
+            or sc.start != "pretwisted"
+            or not sc.seed.constant
+        ):
             raise ValueError(
-                "the linear prediction covers the paper's scene (a ramp, clamped ends of eq 30, "
-                f"no axial load); got {sc.label()}"
+                "the linear prediction covers the paper's scene (a ramp from the pretwisted "
+                "rod, clamped ends of eq 30, no axial load, a constant seed in the body frame); "
+                f"got {sc.label()}"
             )
 
     def params(self) -> dict[str, Any]:

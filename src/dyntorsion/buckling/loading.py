@@ -5,6 +5,7 @@ A scene is data: each object here is a frozen dataclass with ``params()`` (its
 canonical form, part of the cache key) and is evaluated on arrays of times.
 
 * Twist histories kappa3(0, t): :class:`Ramp` (the paper's kappa0 + a t),
+  :class:`SmoothStart` (the ramp from the unstressed rod, kappa0 brought in smoothly),
   :class:`Polynomial`, :class:`RampHold` (a smooth ramp-and-hold), :class:`Tabulated`,
   :class:`Custom` (any named callable with its parameters).
 * :class:`AxialLoad`: the axial force n3(L, t) = T + T_rate t at the far end
@@ -28,10 +29,12 @@ from typing import Any
 import numpy as np
 
 from ..model.ends import ENDS, EQ30, Ends, IllPosedEndsError, ends, ends_from_params
+from ..waves.transitions import smoothing
 
 __all__ = [
     "History",
     "Ramp",
+    "SmoothStart",
     "Polynomial",
     "RampHold",
     "Tabulated",
@@ -107,6 +110,38 @@ class Ramp(History):
 
     def params(self) -> dict[str, Any]:
         return {"kind": "ramp", "kappa0": self.kappa0, "a": self.a}
+
+
+@dataclass(frozen=True)
+class SmoothStart(History):
+    """The paper's ramp started from the unstressed rod, y(s, 0) = 0 (section 6), with the
+    pretwist kappa0 brought in by the smooth transition of section 5 (eq 28, Fig 5):
+    kappa3(0, t) = kappa0 (1 - f(t / tau)) + a t, f(x) = exp(-x^4), so the end twist
+    starts at 0 with its first three time derivatives 0 (of the twist part) and is
+    within kappa0 e^-16 (1.1e-7 kappa0) of the ramp kappa0 + a t for t >= 2 tau; ``tau`` [s] is the time at
+    which 1 - 1/e of kappa0 is in (section 5's release: tau = 1/50 s)."""
+
+    a: float
+    kappa0: float = 0.0
+    tau: float = 0.02
+    kind = "smooth-start"
+
+    def __post_init__(self) -> None:
+        for name in ("a", "kappa0", "tau"):
+            object.__setattr__(self, name, _finite(name, getattr(self, name)))
+        if self.tau <= 0:
+            raise ValueError(f"smooth start tau={self.tau} must be > 0 s")
+
+    def __call__(self, t):
+        t = np.asarray(t, dtype=float)
+        return self.kappa0 * (1.0 - smoothing(t / self.tau)) + self.a * t
+
+    @property
+    def rate(self) -> float:
+        return self.a
+
+    def params(self) -> dict[str, Any]:
+        return {"kind": "smooth-start", "a": self.a, "kappa0": self.kappa0, "tau": self.tau}
 
 
 @dataclass(frozen=True)
@@ -338,6 +373,8 @@ def history_from_params(p: Mapping[str, Any]) -> History:
     kind = q.pop("kind", None)
     if kind == "ramp":
         return Ramp(a=q["a"], kappa0=q["kappa0"])
+    if kind == "smooth-start":
+        return SmoothStart(**q)
     if kind == "polynomial":
         return Polynomial(tuple(q["coefficients"]))
     if kind == "ramp-hold":
@@ -350,7 +387,8 @@ def history_from_params(p: Mapping[str, Any]) -> History:
             "with the same Custom(name, func, parameters)"
         )
     raise ValueError(
-        f"history kind={kind!r}; allowed: ramp, polynomial, ramp-hold, tabulated, custom"
+        f"history kind={kind!r}; allowed: ramp, smooth-start, polynomial, ramp-hold, tabulated, "
+        "custom"
     )
 
 

@@ -120,6 +120,17 @@ def _after_long_steps(run: BucklingRun, t_first: float, what: str) -> None:
         )
 
 
+
+def least_squares_line(t: np.ndarray, u: np.ndarray) -> tuple[float, float]:
+    """(slope, intercept) of the least-squares line through (t, u), from correctly rounded
+    sums (``math.fsum``) of the centred data: the same numbers on every machine (a BLAS
+    or SIMD summation order that depends on the CPU moved the onset's last digits)."""
+    n = len(t)
+    t_mean, u_mean = math.fsum(t) / n, math.fsum(u) / n
+    dt, du = np.asarray(t) - t_mean, np.asarray(u) - u_mean
+    slope = math.fsum(dt * du) / math.fsum(dt * dt)
+    return slope, u_mean - slope * t_mean
+
 def detect_onset(
     run: BucklingRun,
     window: tuple[float, float] = WINDOW,
@@ -185,7 +196,7 @@ def detect_onset(
                 f"window=({lo}, {hi}) holds fewer than 3 samples: refine dt or widen the window"
             )
         _after_long_steps(run, t[i0], f"the fit window ({lo}, {hi}) starts")
-        slope, intercept = np.polyfit(t[i0 : i1 + 1], sign * U[i0 : i1 + 1], 1)
+        slope, intercept = least_squares_line(t[i0 : i1 + 1], sign * U[i0 : i1 + 1])
         return -intercept / slope, slope * sign, intercept * sign
 
     t_c, slope, intercept = fit(*window)

@@ -185,6 +185,12 @@ def energy_balance(run: BucklingRun) -> EnergyBalance:
     from .seed import Perturbation
 
     seed = Perturbation(**{**run.params["perturbation"]})
+    if not seed.constant or run.params.get("start", "pretwisted") != "pretwisted":
+        raise ValueError(
+            "energy_balance covers a constant body-frame seed on the pretwisted rod "
+            f"(got seed frame={seed.frame!r}, duration={seed.duration!r}, start="
+            f"{run.params.get('start', 'pretwisted')!r})"
+        )
     s = run.run.s
     f = seed.force(s, run.rod.L)
     stiff = np.array([run.rod.B1, run.rod.B2, run.rod.C])

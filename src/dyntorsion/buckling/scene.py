@@ -21,7 +21,7 @@ from ..model.ends import Ends, ends_from_params
 from ..model.ends import ends as _ends
 from ..model.rod import Rod
 from .delay_law import paper_law
-from .loading import ENDS, AxialLoad, History, Ramp, history_from_params
+from .loading import ENDS, AxialLoad, History, Ramp, SmoothStart, history_from_params
 from .onset import WINDOW, check_window, classify_onset, detect_onset
 from .resolution import judge
 from .run import BucklingRun
@@ -29,10 +29,12 @@ from .seed import Perturbation
 from .simulation import _load, simulate
 from .statics import critical_twist
 
-__all__ = ["Scene", "UNTIL", "simulate_scene", "simulated", "run_scene"]
+__all__ = ["Scene", "UNTIL", "START", "simulate_scene", "simulated", "run_scene"]
 
 #: how far a scene's run goes (:class:`Scene` ``until``)
 UNTIL = ("contact", "first-peak")
+#: the initial states of a scene (:class:`Scene` ``start``)
+START = ("pretwisted", "step", "smooth")
 
 
 @dataclass(frozen=True)
@@ -52,6 +54,13 @@ class Scene:
     the rule does not cover (a non-ramp history, a ramped load, other ends) need an
     explicit ``t_end``.  The run stops earlier at self-contact or at a Newton failure
     after the onset.  A run that ends before the onset is reported as such, not hidden.
+
+    ``start`` is the initial state, which the paper gives twice: ``"pretwisted"``
+    (default; section 5: "the rod is pretwisted by a twisting moment C h(0)", uniformly
+    to kappa0 without stress in bending), ``"step"`` (section 6: the unstressed rod,
+    y(s, 0) = 0, so that the end twist jumps to kappa0 at t = 0) or ``"smooth"`` (the
+    unstressed rod with kappa0 brought in by section 5's transition over about
+    ``start_tau``, :class:`~dyntorsion.buckling.loading.SmoothStart`).
 
     ``until="first-peak"`` ends the run, too, once ``|u3(L, t)|`` has passed its first
     peak (``simulate(stop_after_first_peak=True)``): the same onset under every rule of
@@ -78,11 +87,22 @@ class Scene:
     tension: AxialLoad | float = 0.0
     ends: Ends | str = "clamped"
     until: str = "contact"
+    start: str = "pretwisted"
+    start_tau: float = 0.02
 
     def __post_init__(self) -> None:
         set_ = object.__setattr__
         if self.until not in UNTIL:
             raise ValueError(f"until={self.until!r}; allowed: {', '.join(map(repr, UNTIL))}")
+        if self.start not in START:
+            raise ValueError(f"start={self.start!r}; allowed: {', '.join(map(repr, START))}")
+        if not real("start_tau", self.start_tau, " [s]") > 0:
+            raise ValueError(f"start_tau={self.start_tau!r} must be > 0 s")
+        if self.start == "smooth" and self.history is not None:
+            raise ValueError(
+                "start='smooth' shapes the paper's ramp; a history brings its own start "
+                "(start='step' runs it from the unstressed rod)"
+            )
         if not isinstance(self.rod, Rod):
             raise TypeError(f"rod={self.rod!r} must be a dyntorsion.Rod")
         if self.history is None:
@@ -133,6 +153,8 @@ class Scene:
         twist = (
             {"a": hist.a, "kappa0": hist.kappa0} if isinstance(hist, Ramp) else {"history": hist}
         )
+        if isinstance(hist, SmoothStart):
+            twist = {"a": hist.a, "kappa0": hist.kappa0, "start_tau": hist.tau}
         seed = dict(p["perturbation"])
         seed["direction"] = tuple(seed["direction"])
         model = p["model"]
@@ -152,12 +174,17 @@ class Scene:
             tension=AxialLoad(**p["load"]),
             ends=ends_from_params(p["ends"]),
             until=p.get("until", "contact"),
+            start=p.get("start", "pretwisted"),
         )
 
     @property
     def twist(self) -> History:
         """The end-twist history kappa3(0, t) (the ramp kappa0 + a t unless ``history``)."""
-        return self.history if self.history is not None else Ramp(a=self.a, kappa0=self.kappa0)
+        if self.history is not None:
+            return self.history
+        if self.start == "smooth":
+            return SmoothStart(a=self.a, kappa0=self.kappa0, tau=self.start_tau)
+        return Ramp(a=self.a, kappa0=self.kappa0)
 
     def kappa_cri(self) -> float:
         """The static critical twist of this rod, axial load and ends
@@ -201,7 +228,7 @@ class Scene:
                 "terms": dict(self.terms),
                 "rotary_inertia_scale": self.rotary_inertia_scale,
             },
-            "perturbation": asdict(self.seed),
+            "perturbation": self.seed.params(),
             "n_cells": self.n_cells,
             "dt": self.dt,
             "t_end": self.duration(),
@@ -212,6 +239,7 @@ class Scene:
                 "variations": [list(v) for v in self.variations],
             },
             **({} if self.until == "contact" else {"until": self.until}),
+            **({} if self.start == "pretwisted" else {"start": self.start}),
         }
 
     def label(self) -> str:
@@ -231,6 +259,9 @@ class Scene:
             + "".join(f" {k}={v:g}" for k, v in self.terms)
             + (f" rotary={self.rotary_inertia_scale:g}" if self.rotary_inertia_scale != 1 else "")
             + (f" until={self.until}" if self.until != "contact" else "")
+            + (f" start={self.start}" if self.start != "pretwisted" else "")
+            + (f" seed_frame={self.seed.frame}" if self.seed.frame != "body" else "")
+            + (f" seed_duration={self.seed.duration:g}" if self.seed.duration else "")
             + (f" long={self.scheme.long_steps.factor}" if self.scheme.long_steps else "")
         )
 
@@ -274,6 +305,7 @@ def simulate_scene(scene: Scene, t_end: float | None = None) -> BucklingRun:
         terms=dict(scene.terms),
         rotary_inertia_scale=scene.rotary_inertia_scale,
         stop_after_first_peak=scene.until == "first-peak",
+        start="pretwisted" if scene.start == "pretwisted" else "unstressed",
     )
 
 

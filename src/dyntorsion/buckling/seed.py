@@ -4,33 +4,45 @@ makes that a parameter."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 
 import numpy as np
 
 from ..genalpha.guard import real
 
-__all__ = ["STATED", "Perturbation"]
+__all__ = ["STATED", "FRAMES", "Perturbation"]
 
 #: the seed's magnitude as section 6 states it: 1e-8 (N; read as N/m along the rod by
 #: default, as N at a point with ``form="point"``)
 STATED = 1e-8
+#: the frames a seed's direction can be fixed in (:class:`Perturbation` ``frame``)
+FRAMES = ("body", "lab")
 
 
 @dataclass(frozen=True)
 class Perturbation:
     """The small force that seeds buckling (section 6: "1e-8 N in the d1 direction").
 
-    The paper does not say where it acts.  ``form="uniform"`` (default) applies
-    ``magnitude`` N/m along the whole rod; ``form="point"`` applies ``magnitude`` N at
-    the node nearest to ``location`` (as magnitude/ds N/m on that node's row).
-    ``direction`` is a body-frame unit vector (default d1).  The force acts for all t.
+    The paper does not say where it acts, in which frame, or for how long: each is a
+    parameter here.  ``form="uniform"`` (default) applies ``magnitude`` N/m along the
+    whole rod; ``form="point"`` applies ``magnitude`` N at the node nearest to
+    ``location`` (as magnitude/ds N/m on that node's row).  ``direction`` is a unit vector:
+    in the body frame (``frame="body"``, default: "in the d1 direction", turning with the
+    section) or fixed in space (``frame="lab"``: e1 where ``direction`` is d1 at the
+    far end s = L, which does not turn while the rod is straight; its body components
+    follow the quasi-static twist of the straight rod, the section at s turned by
+    phi(s, t) = -kappa3(0, t) (L - s) against the far end -- the torsional waves about
+    that twist are left out of the force's direction).  ``duration=None`` (default)
+    lets the force act for all t; a number [s] makes it an impulse that acts on
+    0 <= t <= duration only.
     """
 
     magnitude: float = STATED
     form: str = "uniform"
     location: float = 0.5
     direction: tuple[float, float, float] = (1.0, 0.0, 0.0)
+    frame: str = "body"
+    duration: float | None = None
 
     def __post_init__(self) -> None:
         if not (real("perturbation magnitude", self.magnitude) >= 0):
@@ -40,6 +52,46 @@ class Perturbation:
         d = np.asarray(self.direction, dtype=float)
         if d.shape != (3,) or not np.isclose(np.linalg.norm(d), 1.0):
             raise ValueError(f"perturbation direction={self.direction!r} must be a unit 3-vector")
+        if self.frame not in FRAMES:
+            raise ValueError(f"perturbation frame={self.frame!r}; allowed: 'body', 'lab'")
+        if self.duration is not None:
+            if not (real("perturbation duration", self.duration, " [s]") > 0):
+                raise ValueError(
+                    f"perturbation duration={self.duration!r} must be > 0 s (None: for all t)"
+                )
+            object.__setattr__(self, "duration", float(self.duration))
+
+    @property
+    def constant(self) -> bool:
+        """Whether the force per length is the same at every t (body frame, no end)."""
+        return self.frame == "body" and self.duration is None
+
+    def params(self) -> dict:
+        """The seed's part of a cache key: the frame and the duration only where they
+        differ from the defaults (so the keys of every earlier scene stay as they were)."""
+        out = asdict(self)
+        for name, default in (("frame", "body"), ("duration", None)):
+            if out[name] == default:
+                del out[name]
+        return out
+
+    def time_factor(self, t: np.ndarray) -> np.ndarray:
+        """1 while the force acts, else 0 (an impulse ends at ``duration``)."""
+        t = np.asarray(t, dtype=float)
+        if self.duration is None:
+            return np.ones_like(t)
+        return (t <= self.duration).astype(float)
+
+    def turned(self, f: np.ndarray, s: np.ndarray, length: float, twist: float) -> np.ndarray:
+        """The body components of the lab-fixed force ``f`` (N+1, 3) when the end twist is
+        ``twist`` [1/m]: rotated by -phi(s) = twist (L - s) about d3 (see the class)."""
+        phi = -twist * (length - s)
+        c, sn = np.cos(phi), np.sin(phi)
+        out = np.empty_like(f)
+        out[:, 0] = c * f[:, 0] + sn * f[:, 1]
+        out[:, 1] = -sn * f[:, 0] + c * f[:, 1]
+        out[:, 2] = f[:, 2]
+        return out
 
     def force(self, s: np.ndarray, length: float) -> np.ndarray:
         """Body force per length (N+1, 3) at the nodes s."""

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import warnings
 from collections.abc import Mapping, Sequence
-from dataclasses import asdict
 
 import numpy as np
 
@@ -25,7 +24,11 @@ from .run import BucklingRun
 from .seed import STATED, Perturbation
 from .stops import STRAIGHT, scene_stop
 
-__all__ = ["simulate", "GridWarning", "check_grid"]
+__all__ = ["simulate", "GridWarning", "check_grid", "STARTS"]
+
+#: the initial states of :func:`simulate` (``start``): the rod pretwisted without stress
+#: in bending to kappa3(0, 0) (section 5's reading), or unstressed, y(s, 0) = 0 (section 6)
+STARTS = ("pretwisted", "unstressed")
 
 
 class GridWarning(UserWarning):
@@ -86,6 +89,22 @@ def _checked(hist: History, t_end: float) -> History:
     return hist
 
 
+def _seed_sources(model, seed: Perturbation, s: np.ndarray, length: float, hist) -> Sources:
+    """The seed as the source of eq (7): separable (the force times 1, or times the
+    impulse's switch), or, fixed in the lab frame, a field turned each level by the
+    straight rod's quasi-static twist (:class:`~.seed.Perturbation`)."""
+    f = seed.force(s, length)
+    if seed.frame == "body":
+        g = None if seed.duration is None else seed.time_factor
+        return Sources(separable=(model.external_force(f), g))
+
+    def turned(s_, t):
+        on = seed.time_factor(np.array([t]))[0]
+        return on * model.external_force(seed.turned(f, s, length, float(hist(np.array([t]))[0])))
+
+    return Sources(field=turned)
+
+
 def _load(tension: float | AxialLoad) -> AxialLoad:
     return tension if isinstance(tension, AxialLoad) else AxialLoad(T=tension)
 
@@ -122,6 +141,7 @@ def simulate(
     on_failure: str = "raise",
     terms: Mapping[str, float] | None = None,
     rotary_inertia_scale: float = 1.0,
+    start: str = "pretwisted",
 ) -> BucklingRun:
     """Run the buckling scene of section 6, or any extension of it.
 
@@ -130,8 +150,12 @@ def simulate(
     kappa3(0, t) = kappa0 + a t (the paper) or ``history`` (a
     :class:`~dyntorsion.buckling.loading.History`), axial end load ``tension`` [N] (a number or
     an :class:`~dyntorsion.buckling.loading.AxialLoad`; positive = tension), initial state y = 0
-    except k3 = kappa3(0, 0) and n3 = T(0) (a straight rod pretwisted without stress in
-    bending, in equilibrium under the axial load), and a constant seed force
+    except k3 = kappa3(0, 0) and n3 = T(0) (``start="pretwisted"``: a straight rod pretwisted
+    without stress in bending, in equilibrium under the axial load; section 5 reads the
+    paper's kappa0 so) or y = 0 except n3 (``start="unstressed"``: section 6's "y(s, 0) = 0";
+    with kappa3(0, 0) != 0 the end twist then jumps at t = 0, the incompatible data of
+    section 5; :class:`~dyntorsion.buckling.loading.SmoothStart` brings kappa0 in smoothly
+    instead), and a seed force
     ``perturbation`` (N/m along the rod in d1, or a :class:`Perturbation`).  With no
     seed (magnitude 0) the straight rod is an exact solution of the discrete equations
     and the run stays straight to round-off.
@@ -182,10 +206,13 @@ def simulate(
     check_grid(rod, n_cells, dt)
     s = np.linspace(0.0, rod.L, n_cells + 1)
     y0 = np.zeros((n_cells + 1, 12))
-    y0[:, system.index("k3")] = hist(np.zeros(1))[0]
+    if start not in STARTS:
+        raise ValueError(f"start={start!r}; allowed: {', '.join(map(repr, STARTS))}")
+    if start == "pretwisted":
+        y0[:, system.index("k3")] = hist(np.zeros(1))[0]
     y0[:, system.index("n3")] = load(np.zeros(1))[0]
     left, right = end_set.rows(system, hist, load)
-    q = model.external_force(perturbation.force(s, rod.L))
+    sources = _seed_sources(model, perturbation, s, rod.L, hist)
 
     if check_every is None:
         check_every = 1 if scheme.control is not None else max(1, int(round(0.1 / dt)))
@@ -204,7 +231,7 @@ def simulate(
             right=right,
             scheme=scheme,
             newton=newton,
-            sources=Sources(separable=(q, None)),
+            sources=sources,
             output=Output(record=RECORDED, snapshots=snapshots, progress=progress),
             stops=Stops(
                 test=stop,
@@ -236,12 +263,13 @@ def simulate(
         "n_cells": n_cells,
         "dt": dt,
         "t_end": t_end,
-        "perturbation": asdict(perturbation),
+        "perturbation": perturbation.params(),
         "scheme": run.meta["scheme"],
         "check_every": check_every,
         "stop_after_first_peak": stop_after_first_peak,
         "terms": dict(terms or {}),
         "rotary_inertia_scale": rotary_inertia_scale,
+        **({} if start == "pretwisted" else {"start": start}),
     }
     return BucklingRun(
         t=t,
