@@ -125,6 +125,38 @@ def _newton(a: float, kappa0: float, seed: str = "stated") -> list[Scene]:
     ]
 
 
+#: the initial state and the seed's form as a further dimension of the delay law (issue
+#: 35; the "Initial state and seed" page): the Fig 10 sweep from the unstressed rod with
+#: kappa0 brought in by section 5's transition in about 0.02 s (its torsional wave needs
+#: dt = 0.001 s) and in about 0.5 s, and with the stated seed fixed in the lab frame or
+#: acting as an impulse for the first IMPULSE_S seconds only
+IMPULSE_S = 0.1
+STARTS_AND_SEEDS: dict[str, dict[str, Any]] = {
+    "start-smooth": {"start": "smooth", "start_tau": 0.02, "dt": 0.001},
+    "start-slow": {"start": "smooth", "start_tau": 0.5},
+    "seed-lab": {"seed": Perturbation(STATED, frame="lab")},
+    "seed-impulse": {"seed": Perturbation(STATED, duration=IMPULSE_S)},
+}
+#: the step start (section 6's y(s, 0) = 0 with the end twist jumping to kappa0) on a grid
+#: ladder at a = 16: its square wave is discontinuous, so its onset need not converge
+STEP_GRIDS: tuple[tuple[int, float], ...] = (
+    (100, 0.005), (100, 0.001), (100, 0.0005), (200, 0.0005), (400, 0.00025),
+)  # fmt: skip
+
+
+def _start_or_seed(name: str) -> list[Scene]:
+    kw = dict(STARTS_AND_SEEDS[name])
+    seed = kw.pop("seed", SEEDS["stated"])
+    return [Scene(a=a, kappa0=10.0, seed=seed, **kw) for a in FIG10_RATES]
+
+
+def _step_grid() -> list[Scene]:
+    return [
+        Scene(a=16.0, kappa0=10.0, start="step", n_cells=n, dt=dt, until="first-peak")
+        for n, dt in STEP_GRIDS
+    ]
+
+
 #: name -> function returning the scenes; ``make data`` runs them all
 PRESETS: dict[str, Callable[[], list[Scene]]] = {
     "fig10": lambda: _fig10("stated"),
@@ -143,6 +175,8 @@ PRESETS: dict[str, Callable[[], list[Scene]]] = {
     "imperfection": _imperfection,
     "mechanisms": _mechanisms,
     "tension": lambda: [sc for f in TENSION_FRACTIONS for sc in tension_scenes(f)],
+    **{name: (lambda name=name: _start_or_seed(name)) for name in STARTS_AND_SEEDS},
+    "start-step-grid": _step_grid,
 }
 
 
