@@ -5,6 +5,7 @@ import matplotlib
 matplotlib.use("Agg")
 
 import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 from matplotlib import animation  # noqa: E402
 
@@ -60,6 +61,34 @@ def test_save_refuses_text_too_small_to_read(tmp_path, monkeypatch):
     with pytest.raises(ValueError, match=r"'tiny note' \(7 pt\)"):
         plotting.save(fig, "small")
     assert not (tmp_path / "small.png").exists()
+    plt.close(fig)
+
+
+def test_save_refuses_a_legend_entry_that_is_not_drawn(tmp_path, monkeypatch):
+    monkeypatch.setenv("DYNTORSION_FIGURES", str(tmp_path))
+    plotting.use_style()
+    x = np.linspace(0.0, 1.0, 20)
+    fig, ax = plt.subplots()
+    ax.plot(x, x, label="seen")
+    ax.errorbar(x, x, yerr=0.1, fmt="o", label="points")
+    ax.axvline(0.5, ls=":", label="a vertical line")
+    ax.plot([-1.0, 2.0], [0.2, 0.8], label="crossing the view, no point inside")
+    ax.set_xlim(0.0, 1.0)
+    ax.set_ylim(0.0, 1.0)
+    ax.legend()
+    plotting.save(fig, "ok")  # every entry is drawn
+    ax.plot(x, x + 5.0, label="above the view")
+    ax.plot([], [], label="empty")
+    hidden = ax.plot(x, 1 - x, label="invisible")[0]
+    hidden.set_visible(False)
+    ax.legend()
+    with pytest.raises(ValueError, match="above the view, empty, invisible"):
+        plotting.save(fig, "bad")
+    assert not (tmp_path / "bad.png").exists()
+    ax.get_legend().remove()  # a figure legend is checked too
+    fig.legend(*ax.get_legend_handles_labels())
+    with pytest.raises(ValueError, match="above the view"):
+        plotting.save(fig, "bad")
     plt.close(fig)
 
 

@@ -12,6 +12,7 @@ import re
 from pathlib import Path
 
 import matplotlib
+import numpy as np
 
 from ..store.location import checkout
 
@@ -107,10 +108,56 @@ def check_text_size(fig, name: str = "figure") -> None:
         )
 
 
+def _drawn(artist, ax, renderer) -> bool:
+    """Whether ``artist`` (a legend entry of ``ax``) leaves a mark inside ``ax``."""
+    from matplotlib.container import Container
+    from matplotlib.lines import Line2D
+    from matplotlib.path import Path as MplPath
+
+    if isinstance(artist, Container):  # errorbar, bar: drawn if any part is
+        return any(_drawn(a, ax, renderer) for a in artist.get_children() if a is not None)
+    if not artist.get_visible():
+        return False
+    box = ax.get_window_extent(renderer)
+    if isinstance(artist, Line2D):
+        xy = artist.get_transform().transform(artist.get_xydata())
+        xy = xy[np.isfinite(xy).all(axis=1)]
+        if len(xy) == 0:
+            return False
+        if box.count_contains(xy) > 0:
+            return True
+        return len(xy) > 1 and artist.get_linestyle() not in ("None", " ", "") and (
+            MplPath(xy).intersects_bbox(box, filled=False)
+        )
+    extent = artist.get_window_extent(renderer)
+    return extent.width >= 0 and extent.height >= 0 and extent.overlaps(box)
+
+
+def check_legend(fig, name: str = "figure") -> None:
+    """Raise ``ValueError`` naming each legend entry of ``fig`` whose artist leaves no mark
+    in its axes (invisible, empty, or wholly outside the axis limits): a reader would look
+    for a curve that is not there."""
+    renderer = fig.canvas.get_renderer()
+    legends = [ax.get_legend() for ax in fig.axes] + list(fig.legends)
+    shown = {t.get_text() for lg in legends if lg is not None for t in lg.get_texts()}
+    if not shown:
+        return
+    missing = set()
+    for ax in fig.axes:
+        for artist, label in zip(*ax.get_legend_handles_labels(), strict=True):
+            if label in shown and not _drawn(artist, ax, renderer):
+                missing.add(label)
+    if missing:
+        raise ValueError(
+            f"{name}: the legend lists what the axes do not show: " + ", ".join(sorted(missing))
+        )
+
+
 def save(fig, name: str) -> None:
-    """Check the text size (:func:`check_text_size`), then write ``name``.png and
-    ``name``.pdf to the figure directory (if there is one)."""
+    """Check the text size (:func:`check_text_size`) and the legend (:func:`check_legend`),
+    then write ``name``.png and ``name``.pdf to the figure directory (if there is one)."""
     check_text_size(fig, name)
+    check_legend(fig, name)
     out = figure_dir()
     if out is None:
         return
