@@ -129,13 +129,13 @@ PROBE = r"""
       out.push(['table', '"-0" in a table: ' + text(tb).trim().slice(0, 50)]);
   }
   // unformatted numbers: trailing zeros ("0.200000", "12.800000") or a zero as "0.000"
-  const unformatted = /(?:^|[^\w.])(\d+\.\d*000)(?![\d.])|(?:^|[^\w.])([-\u2212]?0\.00+)(?![\d.])|(?:^|[^\w.])(\d+(?:\.\d+)?e[-+]?\d+)(?![\w.])/;
+  const unformatted = /(?:^|[^\w.])(\d+\.\d*000)(?![\d.])|(?:^|[^\w.])([-\u2212]?0\.00+)(?![\d.])|(?:^|[^\w.])(\d+(?:\.\d+)?e[-+]?\d+)(?![\w.])/g;
   const numbers = new Set();
   const walker2 = document.createTreeWalker(main, NodeFilter.SHOW_TEXT);
   for (let n = walker2.nextNode(); n; n = walker2.nextNode()) {
     if (n.parentElement.closest('pre, code, script, style, mjx-container, textarea, .cell_input, div.highlight')) continue;
-    const m = n.textContent.match(unformatted);
-    if (m) numbers.add((m[1] || m[2] || m[3]) + ' in "' + n.textContent.trim().slice(0, 50) + '"');
+    for (const m of n.textContent.matchAll(unformatted))
+      numbers.add((m[1] || m[2] || m[3]) + ' in "' + n.textContent.trim().slice(0, 50) + '"');
   }
   for (const x of numbers) out.push(['number', 'unformatted: ' + x]);
   // pandas index rows: a header row holding only the index name(s), the rest empty
