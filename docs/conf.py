@@ -20,6 +20,7 @@ extensions = [
     "sphinx.ext.autodoc",
     "sphinx.ext.napoleon",
     "sphinx.ext.mathjax",
+    "sphinx.ext.viewcode",  # each API entry links to its source, highlighted, on the site
     "offline_mathjax",  # sphinx-mathjax-offline, parallel-safe (docs/_ext)
 ]
 myst_enable_extensions = ["dollarmath", "amsmath"]
@@ -80,6 +81,44 @@ def _factory_defaults(app, what, name, obj, options, signature, return_annotatio
     return signature, return_annotation
 
 
+#: the docstrings of Python's own types: a module constant (a float, a tuple) would show
+#: its type's ("Convert a string or number to a floating point number, if possible.")
+_BUILTIN_DOCS = {
+    t.__doc__ for t in (float, int, str, tuple, list, dict, set, frozenset, bool, complex, bytes)
+}
+
+
+def _no_builtin_docstring(app, what, name, obj, options, lines):
+    """An object documented by its type's built-in docstring gets none (its ``#:`` comment,
+    if any, is the documentation); the site check fails on a built-in docstring left in."""
+    if what in ("data", "attribute") and type(obj).__doc__ in _BUILTIN_DOCS:
+        doc = type(obj).__doc__.strip().splitlines()
+        if [ln.strip() for ln in lines if ln.strip()][: len(doc)] == [
+            ln.strip() for ln in doc if ln.strip()
+        ][: len(doc)]:
+            lines.clear()
+
+
+def _keep_glue(app, exception):
+    """Copy the glued values of every executed page (myst-nb writes them beside the build,
+    shared by all builds) into the build, ``_glue/<page>.glue.json``: the site check reads
+    them to find one glue key shown with two values on two pages."""
+    import shutil
+
+    if exception is not None or app.builder.format != "html":
+        return
+    source = Path(app.outdir).parent / "jupyter_execute"
+    target = Path(app.outdir) / "_glue"
+    shutil.rmtree(target, ignore_errors=True)
+    for doc in app.env.found_docs:
+        glued = source / f"{doc}.glue.json"
+        if glued.is_file():
+            (target / doc).parent.mkdir(parents=True, exist_ok=True)
+            shutil.copyfile(glued, target / f"{doc}.glue.json")
+
+
 def setup(app):
+    app.connect("autodoc-process-docstring", _no_builtin_docstring)
+    app.connect("build-finished", _keep_glue)
     app.connect("doctree-resolved", _alt_text)
     app.connect("autodoc-process-signature", _factory_defaults)

@@ -15,7 +15,18 @@ page fails on
 - a Python repr where a value belongs (``<function <lambda>>``, ``<factory>``,
   ``object at 0x...``: in an API signature, a data value or an output),
 - a table headed by pandas row numbers (0, 1, 2, ...), or with a "nan" or "-0" cell,
-- horizontal overflow (the page, or any element of the content, wider than its box).
+- horizontal overflow (the page, or any element of the content, wider than its box),
+- an unformatted number in the text or a table (``0.200000``, ``12.800000``: three or
+  more trailing zeros after the point, or a zero written as ``0.000``),
+- a table with a pandas index row in its header (the index name on a row of its own),
+- a built-in docstring on an API page (a constant documented by its type: "Convert a
+  string or number to a floating point number", "Built-in immutable sequence"),
+- a footer without the version of the package,
+- a figure scaled so far down to fit the column that its smallest text (9 pt at 150 dpi,
+  ``plotting.save``) reads under 9 pt,
+
+and, across pages, on one glue key shown with two values on two pages (the glued values
+the build keeps in ``_glue/``, see ``docs/conf.py``).
 
 A full-page screenshot of each page goes to the screens directory.  Exit status 1
 lists every failure, page by page.
@@ -31,9 +42,24 @@ from urllib.parse import unquote, urlparse
 
 VIEWPORT = {"width": 1280, "height": 900}
 
-# Run in the page after MathJax has typeset it; returns the page's problems.
+#: the first line of the docstrings of Python's own types, which autodoc shows for a
+#: constant without a ``#:`` comment
+BUILTIN_DOCS = sorted(
+    {
+        t.__doc__.strip().splitlines()[-1 if t is int else 0].strip()
+        for t in (float, int, str, tuple, list, dict, set, frozenset, bool, complex, bytes)
+    }
+    | {"Built-in immutable sequence.", "Convert a string or number to a floating point number"}
+)
+#: a figure is saved at 150 dpi with no text under 9 pt (``dyntorsion.app.plotting``); shown
+#: at a CSS px per image px of less than 96/150 its smallest text reads under 9 pt
+MIN_SCALE = 96 / 150
+
+# Run in the page after MathJax has typeset it (with BUILTIN_DOCS, VERSION, MIN_SCALE
+# defined before it); returns the page's problems.
 PROBE = r"""
-() => {
+(cfg) => {
+  const BUILTIN_DOCS = cfg.docs, VERSION = cfg.version, MIN_SCALE = cfg.min_scale;
   const out = [];
   const main = document.querySelector('div.body') || document.body;
   const text = (el) => el.innerText || '';
@@ -102,6 +128,44 @@ PROBE = r"""
     if (cells.some((c) => /^[-\u2212]0(\.0*)?(\s*%)?$/.test(c)))
       out.push(['table', '"-0" in a table: ' + text(tb).trim().slice(0, 50)]);
   }
+  // unformatted numbers: trailing zeros ("0.200000", "12.800000") or a zero as "0.000"
+  const unformatted = /(?:^|[^\w.])(\d+\.\d*000)(?![\d.])|(?:^|[^\w.])([-\u2212]?0\.00+)(?![\d.])|(?:^|[^\w.])(\d+(?:\.\d+)?e[-+]?\d+)(?![\w.])/g;
+  const numbers = new Set();
+  const walker2 = document.createTreeWalker(main, NodeFilter.SHOW_TEXT);
+  for (let n = walker2.nextNode(); n; n = walker2.nextNode()) {
+    if (n.parentElement.closest('pre, code, script, style, mjx-container, textarea, .cell_input, div.highlight')) continue;
+    for (const m of n.textContent.matchAll(unformatted))
+      numbers.add((m[1] || m[2] || m[3]) + ' in "' + n.textContent.trim().slice(0, 50) + '"');
+  }
+  for (const x of numbers) out.push(['number', 'unformatted: ' + x]);
+  // pandas index rows: a header row holding only the index name(s), the rest empty
+  for (const tb of main.querySelectorAll('table')) {
+    for (const tr of tb.querySelectorAll('thead tr')) {
+      const cells = Array.from(tr.children).map((c) => text(c).trim());
+      if (cells.length > 1 && cells[0] !== '' && cells.slice(1).every((c) => c === '')
+          && tb.querySelectorAll('thead tr').length > 1)
+        out.push(['table', 'pandas index row in the header: ' + cells[0].slice(0, 40)]);
+    }
+  }
+  // built-in docstrings of Python's types on an API entry
+  for (const dd of main.querySelectorAll('dl.py > dd, dl.data > dd, dl.attribute > dd')) {
+    const s = text(dd);
+    for (const doc of BUILTIN_DOCS)
+      if (s.includes(doc)) out.push(['apidoc', 'built-in docstring: ' + doc.slice(0, 60)]);
+  }
+  // the footer names the version
+  const footer = document.querySelector('div.footer, footer');
+  if (!footer || !text(footer).includes('version ' + VERSION))
+    out.push(['footer', 'no "version ' + VERSION + '" in the footer: ' + (footer ? text(footer).trim().slice(0, 60) : 'none')]);
+  // figures scaled below the smallest readable text
+  for (const img of main.querySelectorAll('img')) {
+    if (!img.complete || img.naturalWidth === 0 || /\.svg$/i.test(img.getAttribute('src') || '')) continue;
+    const scale = img.getBoundingClientRect().width / img.naturalWidth;
+    if (img.naturalWidth > 200 && scale < MIN_SCALE)
+      out.push(['small-text', 'figure shown at ' + Math.round(100 * scale) + ' % of its '
+        + img.naturalWidth + ' px: 9 pt text reads as ' + (9 * scale / MIN_SCALE).toFixed(1)
+        + ' pt: ' + img.getAttribute('src').slice(0, 60)]);
+  }
   // glued values that came out as nan
   for (const el of document.querySelectorAll('.pasted-text, .pasted-inline'))
     if (/^\s*[-+]?nan\s*$/i.test(text(el))) out.push(['glue', 'glued nan']);
@@ -137,7 +201,33 @@ def chromium_path(explicit: str | None) -> str:
     sys.exit("site-check: no Chromium found (Debian: apt-get install chromium)")
 
 
-def check(build: Path, screens: Path, chromium: str) -> dict[str, list[tuple[str, str]]]:
+def glue_conflicts(build: Path) -> dict[str, list[tuple[str, str]]]:
+    """One glue key with two values on two pages: ``{page: [("glue", what)]}``, from the
+    glued values the build keeps (``_glue/<page>.glue.json``, ``docs/conf.py``)."""
+    import json
+
+    seen: dict[str, dict[str, str]] = {}
+    for f in sorted((build / "_glue").rglob("*.glue.json")):
+        page = f.relative_to(build / "_glue").as_posix().removesuffix(".glue.json") + ".html"
+        for key, out in json.loads(f.read_text()).items():
+            value = out.get("data", {}).get("text/plain")
+            if value is not None:
+                seen.setdefault(key, {})[page] = value
+    found: dict[str, list[tuple[str, str]]] = {}
+    for key, pages in seen.items():
+        if len(set(pages.values())) > 1:
+            shown = ", ".join(f"{v} on {p}" for p, v in pages.items())
+            for p in pages:
+                found.setdefault(p, []).append(("glue", f"glue key {key!r} differs: {shown}"))
+    return found
+
+
+def check(
+    build: Path, screens: Path, chromium: str, version: str | None = None
+) -> dict[str, list[tuple[str, str]]]:
+    if version is None:
+        from dyntorsion import __version__ as version
+    probe_cfg = {"docs": BUILTIN_DOCS, "version": version, "min_scale": MIN_SCALE}
     try:
         from playwright.sync_api import sync_playwright
     except ImportError:
@@ -180,7 +270,7 @@ def check(build: Path, screens: Path, chromium: str) -> dict[str, list[tuple[str
                 " await MathJax.startup.promise; }"
             )
             page.wait_for_timeout(100)
-            result = page.evaluate(PROBE)
+            result = page.evaluate(PROBE, probe_cfg)
             problems += [tuple(p) for p in result["problems"]]
             anchors[page_path.resolve()] = set(result["anchors"])
             links[page_path.resolve()] = result["links"]
@@ -203,6 +293,8 @@ def check(build: Path, screens: Path, chromium: str) -> dict[str, list[tuple[str
                 ids = anchors.get(target)
                 if ids is not None and u.fragment not in ids:
                     found[rel].append(("link", f"missing anchor: {href}"))
+    for rel, problems in glue_conflicts(build).items():
+        found.setdefault(rel, []).extend(problems)
     return found
 
 
@@ -219,21 +311,77 @@ BAD_PAGE = """<!DOCTYPE html><html><head>
 <a href="nowhere.html">broken link</a> <a href="#no-such-anchor">broken anchor</a>
 <div class="cell_output"><div class="output stderr"><pre>ValueError: bad</pre></div></div>
 <pre>a line of code far too long for the column it sits in, so that it runs out of its box sideways</pre>
-</div></body></html>"""
+<p>a rate of 12.800000 rad/(m s), an energy defect of 0.000 and 1.4e-16 J</p>
+<table><thead><tr><th></th><th>t_c</th></tr><tr><th>seed</th><th></th></tr></thead>
+<tbody><tr><th>1e-8</th><td>14.70</td></tr></tbody></table>
+<dl class="py data"><dt>m_cri</dt><dd><p>Convert a string or number to a floating point number, if possible.</p></dd></dl>
+<img src="wide.png" alt="a figure squeezed to a quarter" style="width: 100px">
+</div><div class="footer">&copy;. | Powered by Sphinx</div></body></html>"""
+#: what the self-test plants in BAD_PAGE: (kind, part of the message) each must be caught
+PLANTED = (
+    ("maths", "raw delimiters"),
+    ("maths", "untypeset"),
+    ("network", "cdn.example.org"),
+    ("glue", "placeholder"),
+    ("glue", "glue key 'x' differs"),
+    ("image", "broken"),
+    ("image", "no alt text"),
+    ("link", "missing file"),
+    ("link", "missing anchor"),
+    ("python", "stderr"),
+    ("overflow", "pre"),
+    ("repr", "<function"),
+    ("table", "row numbers"),
+    ("table", "nan in a table"),
+    ("table", "pandas index row"),
+    ("number", "12.800000"),
+    ("number", "0.000"),
+    ("number", "1.4e-16"),
+    ("apidoc", "Convert a string or number"),
+    ("footer", "no \"version"),
+    ("small-text", "wide.png"),
+)
 OK_SVG = '<svg xmlns="http://www.w3.org/2000/svg" width="10" height="10"></svg>'
-KINDS = {"maths", "network", "glue", "image", "link", "python", "overflow", "repr", "table"}
+
+
+def _png(width: int, height: int) -> bytes:
+    """A blank grey PNG image of ``width`` x ``height`` pixels."""
+    import struct
+    import zlib
+
+    def chunk(kind: bytes, data: bytes) -> bytes:
+        body = kind + data
+        return struct.pack(">I", len(data)) + body + struct.pack(">I", zlib.crc32(body))
+
+    rows = b"".join(b"\0" + b"\x80" * width for _ in range(height))
+    head = struct.pack(">IIBBBBB", width, height, 8, 0, 0, 0, 0)
+    return b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", head) + chunk(b"IDAT", zlib.compress(rows)) + (
+        chunk(b"IEND", b"")
+    )
 
 
 def self_test(chromium: str, tmp: Path) -> None:
-    """Run the check on :data:`BAD_PAGE`; exit non-zero if a kind of defect goes unnoticed."""
-    (tmp / "site").mkdir(parents=True, exist_ok=True)
-    (tmp / "site" / "index.html").write_text(BAD_PAGE)
-    (tmp / "site" / "ok.svg").write_text(OK_SVG)
-    found = check(tmp / "site", tmp / "screens", chromium)["index.html"]
-    missed = KINDS - {kind for kind, _ in found}
+    """Run the check on :data:`BAD_PAGE` (and a second page that glues one key to another
+    value); exit non-zero if a planted defect (:data:`PLANTED`) goes unnoticed."""
+    import json
+
+    site = tmp / "site"
+    (site / "_glue").mkdir(parents=True, exist_ok=True)
+    (site / "index.html").write_text(BAD_PAGE)
+    (site / "other.html").write_text("<html><body><div class='body'>ok</div></body></html>")
+    (site / "ok.svg").write_text(OK_SVG)
+    (site / "wide.png").write_bytes(_png(400, 40))
+    for page, value in (("index", "'20.78'"), ("other", "'20.79'")):
+        glued = {"x": {"data": {"text/plain": value}}, "same": {"data": {"text/plain": "'1'"}}}
+        (site / "_glue" / f"{page}.glue.json").write_text(json.dumps(glued))
+    found = check(site, tmp / "screens", chromium, version="0.0.0")["index.html"]
+    missed = [(kind, what) for kind, what in PLANTED
+              if not any(k == kind and what in w for k, w in found)]  # fmt: skip
     if missed:
-        sys.exit(f"site-check self-test: defects of kind {sorted(missed)} were not caught: {found}")
-    print(f"site-check self-test: all {len(KINDS)} kinds of defect caught")
+        sys.exit(f"site-check self-test: planted defects not caught: {missed}; found: {found}")
+    if any("'same'" in w for _, w in found):
+        sys.exit("site-check self-test: a glue key with one value on two pages was flagged")
+    print(f"site-check self-test: all {len(PLANTED)} planted defects caught")
 
 
 def main(argv: list[str] | None = None) -> int:

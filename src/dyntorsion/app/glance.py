@@ -36,6 +36,7 @@ __all__ = [
     "markdown",
     "sig",
     "sci",
+    "percent",
     "md_table",
     "verdict",
     "write_numbers",
@@ -69,6 +70,10 @@ FIGURE_PAGE: dict[str, str] = {
     "law_fig9": "figures/fig09.md",
     "kappa_cri_extrapolated": "figures/fig10.md",
 }
+
+#: decimals of a fitted kappa_cri (its standard error is ~0.2 1/m: the paper's six digits
+#: of eq (32) would overstate it)
+KAPPA_CRI_FREE_DECIMALS = 2
 
 #: the variant of the consistency map's closest cell (issue 19) and its page
 CLOSEST = "closest map cell"
@@ -131,8 +136,9 @@ def _seed_cell(variant: str) -> str:
     """The seed column of :func:`compact`: the seed of a variant, typeset."""
     if variant.startswith(CLOSEST):
         seed, form, rest = variant.split(": ", 1)[1].split(" ", 2)
+        rule, rates = rest.split(", ", 1)
         unit = " uniform" if form.rstrip(",") == "uniform" else " N at mid-span"
-        return f"{sci(float(seed), 2)}{unit} ({CLOSEST}: {rest})"
+        return f"{sci(float(seed), 2)}{unit} ({CLOSEST}; onset rule: {rule}; {rates})"
     return (
         variant.replace("stated seed 1e-8 N/m", "10⁻⁸ (stated)").replace("seed 1e-17 N/m", "10⁻¹⁷")
         or "–"
@@ -195,6 +201,19 @@ def sig(x: float, digits: int) -> str:
     return out[1:] if out.startswith("-") and float(out) == 0 else out
 
 
+def percent(rel: float, digits: int = 2) -> str:
+    """A relative difference ``rel`` (0.01 is 1 %) in percent to ``digits`` significant
+    figures, signed, with a minus sign: ``−0.38 %``, ``+0.0029 %``; exactly 0 is ``0 %``."""
+    if not math.isfinite(rel):
+        raise ValueError(f"rel={rel!r} must be finite")
+    if rel == 0:
+        return "0 %"
+    p = 100 * rel
+    decimals = max(0, digits - 1 - math.floor(math.log10(abs(p))))
+    text = f"{abs(p):.{decimals}f}"
+    return ("+" if p > 0 else "−") + text + " %"
+
+
 _SUPERSCRIPT = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
 
 
@@ -220,7 +239,6 @@ def compact(prefix: str = "") -> pd.DataFrame:
     for _, r in t.iterrows():
         symbol, unit = SYMBOL[r["id"]]
         digits = pub[r["id"]]["digits"]
-        rel = 100 * r["relative difference"]
         page = CLOSEST_PAGE if r["variant"].startswith(CLOSEST) else FIGURE_PAGE[r["id"]]
         rows.append(
             {
@@ -228,8 +246,12 @@ def compact(prefix: str = "") -> pd.DataFrame:
                 "unit": unit,
                 "seed [N/m]": _seed_cell(r["variant"]),
                 "paper": sig(r["paper"], digits),
-                "ours": sig(r["ours"], digits),
-                "difference": "0 %" if abs(rel) < 5e-3 else f"{float(f'{rel:.2g}'):+g} %",
+                "ours": (
+                    f"{r['ours']:.{KAPPA_CRI_FREE_DECIMALS}f}"
+                    if r["id"] == "kappa_cri_extrapolated"
+                    else sig(r["ours"], digits)
+                ),
+                "difference": percent(r["relative difference"]),
                 "verdict": r["verdict"],
                 "evidence": f"[{_label(page)}]({prefix}{page})",
             }

@@ -12,6 +12,7 @@ import re
 from pathlib import Path
 
 import matplotlib
+import numpy as np
 
 from ..store.location import checkout
 
@@ -55,15 +56,78 @@ def use_style() -> None:
 
 def table_html(table) -> str:
     """A data frame or its ``Styler`` as HTML for the site: the index is shown only when
-    it says something (not 0, 1, 2, ...); missing values are a dash."""
+    it says something (not 0, 1, 2, ...), and then as the first column, not as a header
+    row of its own; missing values are a dash; numbers without trailing zeros
+    (``0.200000`` is ``0.2``, a zero ``0``) and with a minus sign; subscripts and
+    superscripts of the headers typeset (``t_c`` as t<sub>c</sub>, ``x^4`` as x<sup>4</sup>)."""
     import pandas as pd
 
     if isinstance(table, pd.DataFrame):
-        return table.to_html(index=not _row_numbers(table.index), na_rep="–", border=0)
-    if _row_numbers(table.data.index):
-        table = table.hide(axis="index")
+        frame, styler = table, None
+    else:
+        frame, styler = table.data, table
+    if not _row_numbers(frame.index):  # a meaningful index: a column like the others
+        frame = frame.reset_index()
+        styler = None if styler is None else _restyle(styler, frame)
+    if styler is None:
+        html = frame.to_html(index=False, na_rep="–", border=0, float_format=_number)
+    else:
+        html = styler.hide(axis="index").to_html()
     # a column given its own format shows NaN as "nan" whatever styler.format.na_rep says
-    return re.sub(r">\s*nan\s*</td>", ">–</td>", table.to_html())
+    html = re.sub(r">\s*nan\s*</td>", ">–</td>", html)
+    html = re.sub(r"(<td[^>]*>)\s*([-+]?[0-9.]+(?:e[-+]?[0-9]+)?)\s*(</td>)", _tidy_cell, html)
+    return re.sub(r"(<th[^>]*>)(.*?)(</th>)", _typeset_header, html, flags=re.S)
+
+
+def _restyle(styler, frame):
+    """``styler``'s formats carried over to ``frame`` (its data with the index as columns)."""
+    fresh = frame.style
+    fresh._display_funcs.update(  # private, but the only way to keep the column formats
+        {
+            (i, j + frame.shape[1] - styler.data.shape[1]): f
+            for (i, j), f in styler._display_funcs.items()
+        }
+    )
+    return fresh
+
+
+_SUPERSCRIPT = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
+
+
+def _number(x: float) -> str:
+    """A float of a table without a format of its own: six significant figures, no
+    trailing zeros, e-notation only for very small or large numbers."""
+    from .glance import sci
+
+    return sci(float(x))
+
+
+def _tidy_cell(m) -> str:
+    """A number alone in a table cell: trailing zeros after the point dropped, a zero
+    written 0, a minus sign for a hyphen."""
+    text = m.group(2)
+    if "e" in text:  # 1.50e-03 -> 1.50 × 10⁻³, the digits as formatted
+        mant, expo = text.split("e")
+        power = "10" + str(int(expo)).translate(_SUPERSCRIPT)
+        text = power if mant in ("1", "1.0") else f"{mant} × {power}"
+    elif "." in text:
+        text = text.rstrip("0").rstrip(".")
+        if text in ("", "-", "+", "-0", "+0"):
+            text = "0"
+    return m.group(1) + text.replace("-", "\u2212", 1 if text.startswith("-") else 0) + m.group(3)
+
+
+_SUB = re.compile(r"(?<=[A-Za-z\u0391-\u03c9])_(\{[^}]*\}|[A-Za-z0-9]+)")
+_SUP = re.compile(r"\^(\([^)]*\)|\{[^}]*\}|-?[0-9]+)")
+_GREEK_DIGIT = re.compile(r"(?<=[\u03ba\u03c9])([0-9])\b")  # kappa3, omega3 -> subscript
+
+
+def _typeset_header(m) -> str:
+    """``t_c`` -> t<sub>c</sub>, ``x^4`` -> x<sup>4</sup>, ``κ3`` -> κ<sub>3</sub> in a header."""
+    text = _SUB.sub(lambda s: f"<sub>{s.group(1).strip('{}')}</sub>", m.group(2))
+    text = _SUP.sub(lambda s: f"<sup>{s.group(1).strip('{}')}</sup>", text)
+    text = _GREEK_DIGIT.sub(r"<sub>\1</sub>", text)
+    return m.group(1) + text + m.group(3)
 
 
 def _row_numbers(index) -> bool:
@@ -107,10 +171,56 @@ def check_text_size(fig, name: str = "figure") -> None:
         )
 
 
+def _drawn(artist, ax, renderer) -> bool:
+    """Whether ``artist`` (a legend entry of ``ax``) leaves a mark inside ``ax``."""
+    from matplotlib.container import Container
+    from matplotlib.lines import Line2D
+    from matplotlib.path import Path as MplPath
+
+    if isinstance(artist, Container):  # errorbar, bar: drawn if any part is
+        return any(_drawn(a, ax, renderer) for a in artist.get_children() if a is not None)
+    if not artist.get_visible():
+        return False
+    box = ax.get_window_extent(renderer)
+    if isinstance(artist, Line2D):
+        xy = artist.get_transform().transform(artist.get_xydata())
+        xy = xy[np.isfinite(xy).all(axis=1)]
+        if len(xy) == 0:
+            return False
+        if box.count_contains(xy) > 0:
+            return True
+        return len(xy) > 1 and artist.get_linestyle() not in ("None", " ", "") and (
+            MplPath(xy).intersects_bbox(box, filled=False)
+        )
+    extent = artist.get_window_extent(renderer)
+    return extent.width >= 0 and extent.height >= 0 and extent.overlaps(box)
+
+
+def check_legend(fig, name: str = "figure") -> None:
+    """Raise ``ValueError`` naming each legend entry of ``fig`` whose artist leaves no mark
+    in its axes (invisible, empty, or wholly outside the axis limits): a reader would look
+    for a curve that is not there."""
+    renderer = fig.canvas.get_renderer()
+    legends = [ax.get_legend() for ax in fig.axes] + list(fig.legends)
+    shown = {t.get_text() for lg in legends if lg is not None for t in lg.get_texts()}
+    if not shown:
+        return
+    missing = set()
+    for ax in fig.axes:
+        for artist, label in zip(*ax.get_legend_handles_labels(), strict=True):
+            if label in shown and not _drawn(artist, ax, renderer):
+                missing.add(label)
+    if missing:
+        raise ValueError(
+            f"{name}: the legend lists what the axes do not show: " + ", ".join(sorted(missing))
+        )
+
+
 def save(fig, name: str) -> None:
-    """Check the text size (:func:`check_text_size`), then write ``name``.png and
-    ``name``.pdf to the figure directory (if there is one)."""
+    """Check the text size (:func:`check_text_size`) and the legend (:func:`check_legend`),
+    then write ``name``.png and ``name``.pdf to the figure directory (if there is one)."""
     check_text_size(fig, name)
+    check_legend(fig, name)
     out = figure_dir()
     if out is None:
         return

@@ -69,6 +69,8 @@ def _m_cri(digits: int = 40) -> mpmath.mpf:
 
 #: the nondimensional critical moment of eq (31), to 40 digits (mpmath)
 M_CRI_MP = _m_cri()
+#: the nondimensional critical moment of eq (31), m_cri = 1.4303 (the smallest nonzero
+#: root of tan(pi m) = pi m), as a float: :data:`M_CRI_MP` rounded
 m_cri = float(M_CRI_MP)
 
 

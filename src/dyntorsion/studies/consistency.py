@@ -58,6 +58,8 @@ MAP_SEEDS: tuple[Perturbation, ...] = (
 )
 #: (N, the largest dt [s], the largest twist increment a dt [1/m] per step)
 MAP_GRID: tuple[int, float, float] = (50, 0.01, 0.1)
+#: the standard grid that confirms a map cell and runs the direct Fig 8 and 9 scenes:
+#: (N, the largest dt [s], the largest twist increment a dt [1/m] per step)
 CONFIRM_GRID: tuple[int, float, float] = (100, 0.005, 0.05)
 #: the seeds confirmed at the standard grid: the two map seeds around the closest cell's
 #: seed (:func:`dyntorsion.studies.claims.closest`: 1.1e-16 N/m uniform; a test checks it)
