@@ -25,6 +25,7 @@ from ..store.results import ON_CORRUPT, ON_STALE, Store
 from ..studies.presets import PRESETS, cached, preset
 from ..studies.sweep import KIND, run_sweep
 from .cli_options import add_scene_options, parse_rates, scene_from
+from .contact_cli import add_contact_options, buckle_contact, print_json
 from .faults import EXIT_INTERRUPTED, describe
 
 
@@ -35,11 +36,16 @@ def _peak_twist(scene: Scene) -> float:
 
 def _buckle(args: argparse.Namespace) -> int:
     scene = scene_from(args, args.a)
+    if args.contact:
+        return buckle_contact(args, scene)
     if args.store:
         table = run_sweep([scene], args.store, on_stale=args.on_stale, progress=False)
         row = table.iloc[0].to_dict()
     else:
         row = run_scene(scene)
+    if args.json:
+        print_json({"scene": scene.label(), **row})
+        return 0 if row["status"] == "buckled" else 1
     try:
         kappa_cri = scene.kappa_cri()
         kc = f"{kappa_cri:.4f}"
@@ -355,6 +361,7 @@ def parser() -> argparse.ArgumentParser:
         help="cache folder: read the scene from it, or compute and add it; " + STORE_HELP,
     )
     b.add_argument("--on-stale", choices=ON_STALE, default="recompute")
+    add_contact_options(b)
     b.set_defaults(func=_buckle)
 
     s = sub.add_parser("sweep", help="a sweep over loading rates (cached, resumable)")

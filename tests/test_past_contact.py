@@ -1,0 +1,121 @@
+"""Past self-contact (issue 33): topology (Lk = Tw + Wr), the reconstruction of the
+centreline, the contact law, and runs through contact (dyntorsion.beyond.contact)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from dyntorsion.beyond.contact import topology as T
+from dyntorsion.beyond.contact.law import LawParams, contact_forces
+
+
+def helix(turns: float, a: float = 0.1, b: float = 0.05, per_turn: int = 400) -> np.ndarray:
+    """A right-handed helix of radius a and pitch 2 pi b starting on the e3 axis direction."""
+    th = np.linspace(0.0, 2 * np.pi * turns, int(per_turn * turns) + 1)
+    return np.c_[a * np.cos(th) - a, a * np.sin(th), b * th]
+
+
+def test_writhe_per_turn_of_a_helix_is_one_minus_cos_of_its_pitch_angle():
+    """Fuller (1971): each turn of a helix whose tangent makes the angle alpha with its axis
+    adds 1 - cos(alpha) to the writhe; the end effects cancel in the difference."""
+    a, b = 0.1, 0.05
+    w = [T.writhe_turns(T.closed_polygon(helix(n, a, b))) for n in (4, 5, 6)]
+    exact = 1.0 - b / math.hypot(a, b)
+    assert np.allclose(np.diff(w), exact, rtol=0, atol=3e-5), (np.diff(w), exact)
+    mirrored = helix(5, a, b) * np.array([1.0, -1.0, 1.0])  # a left-handed helix
+    assert T.writhe_turns(T.closed_polygon(mirrored)) == pytest.approx(-w[1], abs=1e-12)
+
+
+def test_a_plane_curve_and_the_straight_rod_have_no_writhe():
+    th = np.linspace(0, 2 * np.pi, 300, endpoint=False)
+    plane = np.c_[np.cos(th) * (1 + 0.3 * np.cos(3 * th)), np.sin(th), 0 * th]
+    assert abs(T.writhe_turns(plane)) < 1e-12
+    straight = np.c_[np.zeros(51), np.zeros(51), np.linspace(0, 1, 51)]
+    assert abs(T.writhe_turns(T.closed_polygon(straight))) < 1e-12
+    assert T.twist_turns(np.full(51, 2 * np.pi), 0.02) == pytest.approx(1.0, rel=1e-14)
+
+
+def _rotate(v, axis, angle):
+    axis = axis / np.linalg.norm(axis)
+    return (v * math.cos(angle) + np.cross(axis, v) * math.sin(angle)
+            + axis * (axis @ v) * (1 - math.cos(angle)))  # fmt: skip
+
+
+def _ribbon(curve: np.ndarray, extra_turns: int):
+    """A closed ribbon on the closed polygon ``curve``: a normal parallel-transported round
+    it, then turned about the tangent uniformly so that it closes after ``extra_turns``
+    turns beyond the holonomy.  Returns its twist [turns] and the edge curve."""
+    M = curve.shape[0]
+    t = np.roll(curve, -1, axis=0) - curve
+    t /= np.linalg.norm(t, axis=1)[:, None]
+    u = np.empty((M + 1, 3))
+    u[0] = np.cross(t[0], [0.3, 0.5, 0.8])
+    u[0] /= np.linalg.norm(u[0])
+    for j in range(M):  # minimal rotation from t_j to t_{j+1}
+        a, b = t[j], t[(j + 1) % M]
+        ax = np.cross(a, b)
+        s = np.linalg.norm(ax)
+        u[j + 1] = u[j] if s < 1e-15 else _rotate(u[j], ax, math.atan2(s, a @ b))
+    hol = math.atan2(np.cross(u[0], u[M]) @ t[0], u[0] @ u[M])  # angle u_0 -> u_M about t_0
+    psi = (hol - 2 * np.pi * extra_turns) * np.arange(M) / M  # d1_M = d1_0
+    d1 = np.array([_rotate(u[j], t[j], -psi[j]) for j in range(M)])
+    # the edge at each vertex: d1 of the segments either side, made normal to the vertex tangent
+    v = d1 + np.roll(d1, 1, axis=0)
+    tv = t + np.roll(t, 1, axis=0)
+    tv /= np.linalg.norm(tv, axis=1)[:, None]
+    v -= tv * np.einsum("ij,ij->i", v, tv)[:, None]
+    v /= np.linalg.norm(v, axis=1)[:, None]
+    twist = (hol - 2 * np.pi * extra_turns) / (2 * np.pi)
+    return -twist, curve + 1e-3 * v
+
+
+@pytest.mark.parametrize("extra", [0, 2, -3])
+def test_calugareanu_on_a_closed_ribbon_with_the_link_from_the_gauss_integral(extra):
+    """Lk = Tw + Wr on a trefoil knot, the link of the ribbon's edges counted independently
+    (Gauss linking integral of the two closed curves, an integer)."""
+    th = np.linspace(0, 2 * np.pi, 1500, endpoint=False)
+    knot = np.c_[np.sin(th) + 2 * np.sin(2 * th), np.cos(th) - 2 * np.cos(2 * th), -np.sin(3 * th)]
+    tw, edge = _ribbon(knot, extra)
+    lk = T.linking_turns(knot, edge)
+    assert abs(lk - round(lk)) < 1e-6
+    assert abs(tw + T.writhe_turns(knot) - lk) < 0.01, (tw, T.writhe_turns(knot), lk)
+
+
+def _law(k=1000.0, c=0.0):
+    return LawParams(diameter=1e-3, stiffness=k, damping=c, ds=0.02, min_arc=3e-3)
+
+
+@pytest.mark.parametrize("shift", [0.0, 0.005])
+def test_the_contact_force_pushes_two_crossing_parts_apart_and_conserves_momentum(shift):
+    """A rod bent back across itself: the two crossing parts overlap by 0.2 D; the force is
+    k delta ds along the line of centres, equal and opposite, and the energy k ds delta^2 / 2,
+    whether they cross at nodes (shift 0: four segment pairs find the contact) or between."""
+    s = np.linspace(0.0, 1.0, 51)
+    r = np.c_[np.zeros(51), np.zeros(51), s]
+    x = np.linspace(-0.1, 0.1, 21) + shift
+    r[30:] = np.c_[x, np.full(21, 0.8e-3), np.full(21, 0.5 + shift)]  # crosses
+    law = _law()
+    cf = contact_forces(law, r, np.zeros_like(r), fixtures=False)
+    assert cf.pairs >= 1
+    assert cf.max_overlap == pytest.approx(0.2e-3, rel=1e-9)
+    assert np.allclose(cf.force.sum(axis=0), 0.0, atol=1e-15)
+    total_on_second = cf.force[30:].sum(axis=0)
+    assert total_on_second[1] > 0 and abs(total_on_second[0]) < 1e-12
+    assert np.linalg.norm(total_on_second) == pytest.approx(law.stiffness * 0.2e-3 * law.ds, rel=1e-9)
+    assert cf.energy == pytest.approx(0.5 * law.ds * law.stiffness * (0.2e-3) ** 2, rel=1e-9)
+
+
+def test_near_neighbours_along_the_rod_never_touch_and_fixtures_hold_the_axis():
+    s = np.linspace(0.0, 1.0, 51)
+    r = np.c_[np.zeros(51), np.zeros(51), s]
+    assert contact_forces(_law(), r, np.zeros_like(r)).pairs == 0
+    # the free part swung back below the left end, onto the axis beyond it
+    r2 = r.copy()
+    r2[40:, 2] = -0.05
+    r2[40:, 0] = np.linspace(-0.1, 0.1, 11)
+    cf = contact_forces(_law(), r2, np.zeros_like(r2))
+    assert cf.pairs >= 1 and np.all(cf.touching[:, 1] == -1)
+    assert contact_forces(_law(), r2, np.zeros_like(r2), fixtures=False).pairs == 0
