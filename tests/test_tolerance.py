@@ -128,3 +128,18 @@ def test_buckle_json_without_rtol_is_one_object(capsys):
     out = json.loads(capsys.readouterr().out)
     assert code == 0 and out["status"] == "buckled"
     assert out["t_c"] > 0 and "N=30" in out["scene"]
+
+
+def test_sweep_rtol_runs_each_rate_and_caches_the_rungs(tmp_path, capsys):
+    argv = ["sweep", "--rates", "16", "--kappa0", "10", "--rtol", "0.01", "--store", str(tmp_path)]
+    assert main(argv) == 0
+    out = capsys.readouterr().out
+    assert "t_c_error" in out and "standard" in out
+    assert len(list(tmp_path.glob("buckling-onset-*.json"))) == 3  # N = 25, 50, 100
+    # read back, computing nothing
+    res = T.onset_within(Scene(a=16.0, kappa0=10.0), 0.01, store=tmp_path, compute=False)
+    assert res.met and res.n_cells == 100
+    with pytest.raises(ValueError, match="give store"):
+        T.onset_within(Scene(a=16.0, kappa0=10.0), 0.01, compute=False)
+    assert main([*argv, "--jobs", "2"]) == 2
+    assert "drop --jobs" in capsys.readouterr().err

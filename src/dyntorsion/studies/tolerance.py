@@ -175,7 +175,8 @@ Runner = Callable[[Scene], dict[str, Any]]
 
 def _store_runner(store: Store | str | Path | None, compute: bool) -> Runner:
     def run(sc: Scene) -> dict[str, Any]:
-        row = run_sweep([sc], store, compute=compute, progress=False).iloc[0]
+        stale = "recompute" if compute else "error"
+        row = run_sweep([sc], store, compute=compute, on_stale=stale, progress=False).iloc[0]
         return {k: (None if _missing(row[k]) else row[k]) for k in ("status", "t_c", "kappa3")}
 
     return run
@@ -203,13 +204,15 @@ def onset_within(
     onset (a coarse grid that misses it) take no part in the estimate.  ``store``:
     read and write each rung as a record (:func:`~dyntorsion.studies.sweep.run_sweep`;
     ``compute=False`` only reads); without it the rungs are computed here and kept
-    nowhere.  ``scene``'s own grid plays no part.
+    nowhere (``compute=False`` then is an error).  ``scene``'s own grid plays no part.
     """
     rtol = check_rtol(rtol)
     if not isinstance(scene, Scene):
         raise TypeError(f"scene={scene!r} must be a dyntorsion.buckling.scene.Scene")
     if max_cells not in CELLS[2:]:
         raise ValueError(f"max_cells={max_cells!r}; allowed: {', '.join(map(str, CELLS[2:]))}")
+    if store is None and not compute:
+        raise ValueError("compute=False reads the rungs from a store: give store")
     run: Runner = run_scene if store is None else _store_runner(store, compute)
     ladder = rungs(scene, CELLS.index(max_cells) + 1)
     _, paced_by = pacing_time(scene)

@@ -24,6 +24,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from ..store.location import default_store
 from ..store.results import Store
 from .presets import HOLDOUT_CHECKED, HOLDOUT_ROD, holdout_scenes, preset
 from .sweep import run_sweep
@@ -105,9 +106,10 @@ def chooser(rtol: float, store: Store | str | Path | None = None) -> pd.DataFram
     rung, N = 200) on every hold-out scene, read from the records, with the true errors
     of the t_c and kappa3 it returns against the N = 400 reference."""
     table = _table(store)
+    where = default_store() if store is None else store  # read, never compute
     rows = []
     for i, sc in enumerate(holdout_scenes()):
-        res = onset_within(sc, rtol, max_cells=200, store=store, compute=False)
+        res = onset_within(sc, rtol, max_cells=200, store=where, compute=False)
         ref = table.iloc[(i + 1) * len(CELLS) - 1]
         row = {"scene": i, "group": group_of(sc), "a": sc.a, "rung": res.rung, "met": res.met}
         for q in ("t_c", "kappa3"):
@@ -125,11 +127,18 @@ def chooser(rtol: float, store: Store | str | Path | None = None) -> pd.DataFram
     return pd.DataFrame(rows)
 
 
-def coverage(store: Store | str | Path | None = None, rtol: float = 0.005) -> pd.DataFrame:
+def coverage(
+    store: Store | str | Path | None = None,
+    rtol: float = 0.005,
+    pairs_: pd.DataFrame | None = None,
+    chosen: pd.DataFrame | None = None,
+) -> pd.DataFrame:
     """The coverage table: per group and over all, the judged estimates (t_c and kappa3
     on the ``standard`` and ``fine`` rungs), the share covered, the median overstatement
-    and the share overstated at most 3 times, and the chooser at ``rtol``."""
-    p, c = pairs(store), chooser(rtol, store)
+    and the share overstated at most 3 times, and the chooser at ``rtol`` (``pairs_`` and
+    ``chosen``: :func:`pairs` and :func:`chooser` at ``rtol`` when already at hand)."""
+    p = pairs(store) if pairs_ is None else pairs_
+    c = chooser(rtol, store) if chosen is None else chosen
     out = []
     for name, sel_p, sel_c in [
         *((g, p.group == g, c.group == g) for g in GROUPS),
