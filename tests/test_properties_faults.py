@@ -30,13 +30,13 @@ from dyntorsion.buckling.resolution import judge
 from dyntorsion.buckling.statics import critical_twist
 from dyntorsion.genalpha import guard
 from dyntorsion.genalpha.guard import BudgetError
-
-I = importlib.import_module("dyntorsion.genalpha.integrate")  # the module, not the function
 from dyntorsion.genalpha.stopping import deferred_signals
 from dyntorsion.store import leases as L
 from dyntorsion.store.leases import acquire_lease
 from dyntorsion.store.results import CorruptResultError, Store
 from dyntorsion.studies.sweep import KIND
+
+I = importlib.import_module("dyntorsion.genalpha.integrate")  # the module, not the function
 
 FEW = max(3, settings.default.max_examples // 4)  # examples that run a scene
 TMP_OK = [HealthCheck.function_scoped_fixture]  # tmp_path shared across examples: each
@@ -235,11 +235,15 @@ DAMAGE = st.one_of(
     st.text(max_size=200).map(str.encode),
     st.recursive(
         st.none() | st.booleans() | st.floats() | st.text(max_size=5),
-        lambda kids: st.lists(kids, max_size=3) | st.dictionaries(st.text(max_size=6), kids, max_size=3),
+        lambda kids: (
+            st.lists(kids, max_size=3) | st.dictionaries(st.text(max_size=6), kids, max_size=3)
+        ),
         max_leaves=10,
     ).map(lambda v: json.dumps(v).encode()),
     st.builds(
-        lambda params, result: json.dumps({"kind": KIND, "params": params, "result": result}).encode(),
+        lambda params, result: json.dumps(
+            {"kind": KIND, "params": params, "result": result}
+        ).encode(),
         st.dictionaries(st.text(max_size=4), st.integers(), max_size=2),
         st.dictionaries(st.text(max_size=4), st.floats(allow_nan=False), max_size=2),
     ),

@@ -8,7 +8,35 @@ torsional waves (section 5) and delayed buckling (section 6).
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Any
+
 from ._version import __version__
 from .model.rod import Rod
 
-__all__ = ["Rod", "__version__"]
+if TYPE_CHECKING:
+    from .buckling.scene import Scene
+
+__all__ = ["Rod", "__version__", "run_scene"]
+
+
+def run_scene(scene: Scene, rtol: float | None = None, **options: Any) -> dict[str, Any]:
+    """Run one buckling scene (section 6) and detect its onset.
+
+    Without ``rtol``: :func:`dyntorsion.buckling.scene.run_scene` on the scene's own grid.
+    With ``rtol`` (a relative tolerance in (0, 1]): the scene's grid is replaced by the
+    cheapest rung of the fidelity ladder whose estimated discretisation errors of t_c and
+    kappa3 meet it, :func:`dyntorsion.studies.tolerance.onset_within` (``options``: its
+    ``max_cells``, ``store``, ``compute``); the dict then holds ``t_c``, ``t_c_error``,
+    ``kappa3``, ``kappa3_error``, the grid (``rung``, ``n_cells``, ``dt``), ``met`` and
+    every rung run.  (The buckling layer cannot import the studies that choose the grid,
+    so the choice is made here, above both.)
+    """
+    if rtol is None:
+        if options:
+            raise TypeError(f"run_scene: {sorted(options)} need rtol")
+        from .buckling.scene import run_scene as run
+
+        return run(scene)
+    from .studies.tolerance import onset_within
+
+    return onset_within(scene, rtol, **options).as_dict()

@@ -15,6 +15,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 
 from .. import __version__
 from ..buckling.delay_law import fit_power_law
@@ -34,10 +35,42 @@ def _peak_twist(scene: Scene) -> float:
     return float(np.max(np.abs(scene.twist(np.linspace(0.0, scene.duration(), 4001)))))
 
 
+def _buckle_rtol(args: argparse.Namespace, scene: Scene) -> int:
+    """``buckle --rtol R``: the onset on the cheapest rung that meets R, with its error."""
+    from ..studies.tolerance import onset_within
+
+    res = onset_within(scene, args.rtol, store=args.store)
+    grid = {"rung": res.rung, "n_cells": res.n_cells, "dt": res.dt}
+    if args.json:
+        out = {"scene": scene.label().rsplit(" N=", 1)[0], **res.as_dict(), "grid": grid}
+        print_json(out)
+        return 0 if res.met else 1
+    print(f"scene      {scene.label().rsplit(' N=', 1)[0]} (grid chosen for rtol={res.rtol:g})")
+    for g in res.grids:
+        tc = "-" if g["t_c"] is None else f"{g['t_c']:.5f} s"
+        print(
+            f"rung       {g['rung']:<9} N={g['n_cells']:<4} dt={g['dt']:.4g} s  {g['status']:<9} t_c = {tc}"
+        )
+    print(f"status     {res.status}")
+    if res.t_c_error is None:
+        print(res.note)
+        return 1
+    print(f"t_c        {res.t_c:.5f} +- {res.t_c_error:.2g} s (estimated discretisation error)")
+    print(f"kappa3     {res.kappa3:.5f} +- {res.kappa3_error:.2g} 1/m")
+    print(
+        f"grid       {res.rung}: N = {res.n_cells}, dt = {res.dt:.4g} s (paced by the {res.paced_by})"
+    )
+    if not res.met:
+        print(res.note)
+    return 0 if res.met and res.status == "buckled" else 1
+
+
 def _buckle(args: argparse.Namespace) -> int:
     scene = scene_from(args, args.a)
     if args.contact:
         return buckle_contact(args, scene)
+    if args.rtol is not None:
+        return _buckle_rtol(args, scene)
     if args.store:
         table = run_sweep([scene], args.store, on_stale=args.on_stale, progress=False)
         row = table.iloc[0].to_dict()
@@ -181,8 +214,41 @@ def _log(message: str) -> None:
     tqdm.write(message, file=sys.stderr)
 
 
+def _sweep_rtol(args: argparse.Namespace, scenes: list[Scene]) -> int:
+    """``sweep --rtol R``: each scene on the cheapest rung that meets R (one after another;
+    the rungs are cached in the store like any scene)."""
+    from ..studies.tolerance import onset_within
+
+    if args.jobs != 1 or args.dask_local or args.scheduler:
+        raise ValueError(
+            "--rtol runs the scenes one after another in this process (each rung decides the "
+            "next); drop --jobs/--dask-local/--scheduler"
+        )
+    rows = []
+    for sc in scenes:
+        res = onset_within(sc, args.rtol, store=args.store)
+        rows.append({"a": sc.a, **{k: v for k, v in res.as_dict().items() if k != "grids"}})
+    table = pd.DataFrame(rows)
+    cols = [
+        "a",
+        "t_c",
+        "t_c_error",
+        "kappa3",
+        "kappa3_error",
+        "rung",
+        "n_cells",
+        "dt",
+        "met",
+        "status",
+    ]
+    print(table[cols].to_string(index=False, float_format=lambda v: f"{v:.5g}"))
+    return 0 if table.met.all() else 1
+
+
 def _sweep(args: argparse.Namespace) -> int:
     scenes = _sweep_scenes(args)
+    if args.rtol is not None:
+        return _sweep_rtol(args, scenes)
     executor, client, cluster = None, None, None
     if args.dask_local < 0:
         raise ValueError(f"--dask-local={args.dask_local} must be >= 1 workers (or 0: off)")
@@ -327,6 +393,23 @@ def _info(args: argparse.Namespace) -> int:
     return 0
 
 
+RTOL_HELP = (
+    "relative tolerance of t_c and kappa3 in (0, 1]: run the scene on the rungs of the "
+    "fidelity ladder (dyntorsion.studies.tolerance; paced steps) until the estimated "
+    "discretisation error meets R, and print it (overrides --n-cells, --dt, --fidelity, --paced)"
+)
+
+
+def rtol_type(text: str) -> float:
+    """``--rtol``: a relative tolerance in (0, 1]."""
+    from ..studies.tolerance import check_rtol
+
+    try:
+        return check_rtol(float(text))
+    except ValueError as err:
+        raise argparse.ArgumentTypeError(str(err).replace("rtol=", "--rtol ")) from None
+
+
 #: argparse takes "-1e9" for an option; a number in any float notation is a value
 _NEGATIVE_NUMBER = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$")
 
@@ -361,7 +444,8 @@ def parser() -> argparse.ArgumentParser:
         help="cache folder: read the scene from it, or compute and add it; " + STORE_HELP,
     )
     b.add_argument("--on-stale", choices=ON_STALE, default="recompute")
-    add_contact_options(b)
+    add_contact_options(b)  # with --json
+    b.add_argument("--rtol", type=rtol_type, default=None, metavar="R", help=RTOL_HELP)
     b.set_defaults(func=_buckle)
 
     s = sub.add_parser("sweep", help="a sweep over loading rates (cached, resumable)")
@@ -393,6 +477,7 @@ def parser() -> argparse.ArgumentParser:
         help="a damaged record: move it aside (.corrupt) and recompute, or stop with an error",
     )
     s.add_argument("--quiet", action="store_true", help="no progress bar or log")
+    s.add_argument("--rtol", type=rtol_type, default=None, metavar="R", help=RTOL_HELP)
     s.set_defaults(func=_sweep)
 
     lin = sub.add_parser(

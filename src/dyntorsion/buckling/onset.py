@@ -120,7 +120,6 @@ def _after_long_steps(run: BucklingRun, t_first: float, what: str) -> None:
         )
 
 
-
 def least_squares_line(t: np.ndarray, u: np.ndarray) -> tuple[float, float]:
     """(slope, intercept) of the least-squares line through (t, u), from correctly rounded
     sums (``math.fsum``) of the centred data: the same numbers on every machine (a BLAS
@@ -130,6 +129,7 @@ def least_squares_line(t: np.ndarray, u: np.ndarray) -> tuple[float, float]:
     dt, du = np.asarray(t) - t_mean, np.asarray(u) - u_mean
     slope = math.fsum(dt * du) / math.fsum(dt * dt)
     return slope, u_mean - slope * t_mean
+
 
 def detect_onset(
     run: BucklingRun,

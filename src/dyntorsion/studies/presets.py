@@ -157,6 +157,47 @@ def _step_grid() -> list[Scene]:
     ]
 
 
+#: the hold-out set of the error estimate of :func:`~dyntorsion.studies.tolerance.onset_within`
+#: (issue 34): the 16 Fig 10 rates at three seeds, another rod (thicker and denser) and
+#: the rate sweep under a tension and a compression (half and a quarter of the clamped
+#: Euler load), every third Fig 10 rate for the last two
+HOLDOUT_SEEDS: dict[str, Perturbation] = {
+    "1e-8": SEEDS["stated"],
+    "1e-12": Perturbation(1e-12),
+    "1e-17": SEEDS["tiny"],
+}
+HOLDOUT_ROD = Rod(D=1.5e-3, rho=5000.0)
+#: the hold-out scenes whose reference is checked one rung finer still (N = 800)
+HOLDOUT_CHECKED: tuple[int, ...] = (0, 8, 15)
+
+
+def holdout_scenes() -> list[Scene]:
+    """The hold-out scenes (:data:`HOLDOUT_SEEDS`, :data:`HOLDOUT_ROD`), with the step-size
+    control of the presets; their grids play no part (the rungs set them)."""
+    fig10 = [sc for name in HOLDOUT_SEEDS for sc in _holdout_fig10(name)]
+    rod = [Scene(a=a, kappa0=10.0, rod=HOLDOUT_ROD, seed=SEEDS["stated"]) for a in TENSION_RATES]
+    loads = [sc for f in (0.5, -0.25) for sc in tension_scenes(f)]
+    return [
+        replace(sc, scheme=replace(sc.scheme, control=PRESET_CONTROL))
+        for sc in (*fig10, *rod, *loads)
+    ]
+
+
+def _holdout_fig10(seed: str) -> list[Scene]:
+    return [Scene(a=a, kappa0=10.0, seed=HOLDOUT_SEEDS[seed]) for a in FIG10_RATES]
+
+
+def _holdout() -> list[Scene]:
+    """Every hold-out scene on the rungs N = 25..400 of
+    :func:`~dyntorsion.studies.tolerance.rungs` (N = 400 is the reference), and the
+    scenes :data:`HOLDOUT_CHECKED` at N = 800 too."""
+    from .tolerance import CELLS, rungs
+
+    scenes = holdout_scenes()
+    out = [r for sc in scenes for r in rungs(sc, len(CELLS))]
+    return out + [rungs(scenes[i], len(CELLS) + 1)[-1] for i in HOLDOUT_CHECKED]
+
+
 #: name -> function returning the scenes; ``make data`` runs them all
 PRESETS: dict[str, Callable[[], list[Scene]]] = {
     "fig10": lambda: _fig10("stated"),
@@ -177,6 +218,7 @@ PRESETS: dict[str, Callable[[], list[Scene]]] = {
     "tension": lambda: [sc for f in TENSION_FRACTIONS for sc in tension_scenes(f)],
     **{name: (lambda name=name: _start_or_seed(name)) for name in STARTS_AND_SEEDS},
     "start-step-grid": _step_grid,
+    "tolerance-holdout": _holdout,
 }
 
 

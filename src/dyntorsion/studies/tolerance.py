@@ -1,0 +1,264 @@
+"""Accuracy on demand: the onset of a buckling scene to a requested relative tolerance,
+with an a-posteriori error estimate (beyond the paper; issue 34, item 1).
+
+The onset time t_c of section 6 has no exact solution; its discretisation error is
+estimated from the scene run on a sequence of grids that halve ``ds`` and ``dt``
+together, the rungs of the fidelity ladder (:data:`~dyntorsion.studies.fidelity.PRESETS`,
+``buckling``: N = 50 ``quick``, 100 ``standard``, 200 ``fine``) below a coarse rung at
+N = 25 and above ``fine`` at N = 400:
+
+    N_k = 25 * 2^k,    dt_k = dt_0 / 2^k,        k = 0, 1, 2, ...
+
+``dt_0`` is paced (:mod:`~dyntorsion.studies.pacing`): the onset time of the fast linear
+estimate (:func:`~dyntorsion.beyond.predictions.estimate`) over 96 steps, so that the
+``standard`` rung reaches the onset in the pacing's 384 steps whatever the rate; where
+the linear estimate does not reach (an axial load) the paper's delay law at this rod's
+and load's static kappa_cri (eqs 33-34) sets the time instead, and where neither does
+(other histories, other ends) the ladder's own steps are used (``quick``'s dt doubled,
+scaled to the rod).  Every rung runs until the first peak of ``|u3(L)|`` (the same onset,
+without the whip) with the scene's own Newton options.
+
+The error of the value v_K on the finest rung run so far is estimated from the last
+two differences d_k = v_k - v_{k-1} of the sequence (three rungs):
+
+    e_K = max(|d_K|, |d_{K-1}|).
+
+A scheme of order p >= 1 whose error e_k = C h_k^p shrinks by 2^p per rung has
+e_K = |d_K| / (2^p - 1) <= |d_K|: the first term covers it.  The onset, however, is read
+off a line fit to a sampled trace, and its convergence is irregular ("Accuracy and
+cost" page): two neighbouring rungs may agree by coincidence, or the error may even
+grow from one rung to the next, so the second term keeps the estimate from trusting
+one small difference.  The price is paid where the convergence is clean: for an exact
+second-order sequence the estimate is 12 times the error (|d_{K-1}| = 4 |d_K| = 12 e_K).
+Rules that trust the last difference when the sequence looks regular fail on measured
+sequences (the Fig 10 scene at a = 1.09 with the 1e-17 N/m seed: 18.2875, 18.3589,
+18.3622, 18.3551 s on N = 25..200, against 18.3556 s on N = 400).
+Two rungs give no
+estimate: the coarse and ``quick`` rungs agree by coincidence too often (measured:
+the Fig 8 scene, 14.7483 s and 14.7480 s, against a converged 14.695 s), so the
+cheapest rung that can be vouched for is ``standard``.
+
+:func:`onset_within` runs the rungs from the coarsest and returns the onset of the first
+rung (from ``standard`` on) whose estimated errors of t_c and kappa3 are within
+``rtol`` of their values.  How honest the estimate is -- how often it covers the
+error against a converged reference, and by how much it overstates it -- is measured
+over a hold-out set of scenes by :mod:`~dyntorsion.studies.tolerance_study`.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import asdict, dataclass, field, replace
+from functools import lru_cache
+from pathlib import Path
+from typing import Any
+
+from ..beyond.predictions import estimate
+from ..buckling.delay_law import paper_law
+from ..buckling.scene import Scene, run_scene
+from ..store.results import Store
+from . import fidelity
+from .pacing import STEPS
+from .sweep import run_sweep
+
+__all__ = [
+    "CELLS",
+    "RUNG_NAMES",
+    "ToleranceOnset",
+    "check_rtol",
+    "error_estimate",
+    "onset_within",
+    "pacing_time",
+    "rungs",
+]
+
+#: cells of the rungs, coarsest first: the ladder's quick, standard and fine with a
+#: coarse rung below and one more above
+CELLS: tuple[int, ...] = (25, 50, 100, 200, 400)
+#: the name of each rung
+RUNG_NAMES: dict[int, str] = {25: "coarse", 50: "quick", 100: "standard", 200: "fine"}
+#: steps to the paced onset time on the N = 25 rung (the pacing's 384 at N = 100)
+COARSE_STEPS = STEPS * CELLS[0] // 100
+
+
+def check_rtol(rtol: Any) -> float:
+    """``rtol`` as a float if it is a relative tolerance in (0, 1], else a ValueError
+    naming it."""
+    if isinstance(rtol, bool) or not isinstance(rtol, int | float):
+        raise ValueError(f"rtol={rtol!r} must be a number in (0, 1] (a relative tolerance)")
+    if not (math.isfinite(rtol) and 0.0 < rtol <= 1.0):
+        raise ValueError(f"rtol={rtol!r} must be in (0, 1] (a relative tolerance, e.g. 0.005)")
+    return float(rtol)
+
+
+def rung_name(n_cells: int) -> str:
+    return RUNG_NAMES.get(n_cells, f"N={n_cells}")
+
+
+@lru_cache(maxsize=256)
+def pacing_time(scene: Scene) -> tuple[float | None, str]:
+    """The onset time the rungs are paced by, and where it comes from: the linear
+    estimate (``"linear estimate"``), else the paper's delay law at the scene's static
+    kappa_cri (``"delay law"``), else None (``"ladder"``: the fidelity ladder's steps)."""
+    try:
+        t = estimate(scene).t_ref
+        if math.isfinite(t) and t > 0:
+            return t, "linear estimate"
+    except ValueError:
+        pass
+    if scene.history is None and scene.tension.T_rate == 0.0:
+        try:
+            kc = scene.kappa_cri()
+        except ValueError:
+            return None, "ladder"
+        t = (float(paper_law(scene.a, scene.rod, kc)) - scene.kappa0) / scene.a
+        if math.isfinite(t) and t > 0:
+            return t, "delay law"
+    return None, "ladder"
+
+
+def rungs(scene: Scene, count: int = len(CELLS)) -> list[Scene]:
+    """The first ``count`` rungs of ``scene``: N = 25 * 2^k cells, dt = dt_0 / 2^k, until
+    the first peak; everything else as in ``scene``."""
+    if isinstance(count, bool) or not isinstance(count, int) or not 2 <= count <= 8:
+        raise ValueError(f"count={count!r} must be an integer in [2, 8]")
+    t_pace, _ = pacing_time(scene)
+    if t_pace is None:
+        dt0 = 2.0 * fidelity.get("buckling", "quick", rod=scene.rod).dt
+    else:
+        dt0 = float(f"{t_pace / COARSE_STEPS:.3g}")
+    return [
+        replace(scene, n_cells=CELLS[0] * 2**k, dt=dt0 / 2**k, until="first-peak")
+        for k in range(count)
+    ]
+
+
+def error_estimate(values: Sequence[float]) -> float:
+    """The estimated error of ``values[-1]`` from values on rungs refined by 2,
+    ``max(|d_K|, |d_{K-1}|)`` (module docstring); at least three values."""
+    v = [float(x) for x in values]
+    if len(v) < 3 or not all(math.isfinite(x) for x in v):
+        raise ValueError(f"values={values!r}: need at least three finite values (three rungs)")
+    return max(abs(v[-1] - v[-2]), abs(v[-2] - v[-3]))
+
+
+@dataclass(frozen=True)
+class ToleranceOnset:
+    """The onset of a scene to a tolerance (:func:`onset_within`): t_c [s] and kappa3
+    [1/m] on the rung ``n_cells`` x ``dt`` with their estimated errors, whether the
+    tolerance was ``met``, and every rung run (``grids``)."""
+
+    t_c: float | None
+    t_c_error: float | None
+    kappa3: float | None
+    kappa3_error: float | None
+    n_cells: int
+    dt: float
+    rung: str
+    met: bool
+    status: str
+    rtol: float
+    paced_by: str
+    note: str = ""
+    grids: tuple[dict[str, Any], ...] = field(default_factory=tuple)
+
+    def as_dict(self) -> dict[str, Any]:
+        """JSON-ready: every field, ``grids`` as a list."""
+        out = asdict(self)
+        out["grids"] = [dict(g) for g in self.grids]
+        return out
+
+
+Runner = Callable[[Scene], dict[str, Any]]
+
+
+def _store_runner(store: Store | str | Path | None, compute: bool) -> Runner:
+    def run(sc: Scene) -> dict[str, Any]:
+        stale = "recompute" if compute else "error"
+        row = run_sweep([sc], store, compute=compute, on_stale=stale, progress=False).iloc[0]
+        return {k: (None if _missing(row[k]) else row[k]) for k in ("status", "t_c", "kappa3")}
+
+    return run
+
+
+def _missing(x: Any) -> bool:
+    return x is None or (isinstance(x, float) and math.isnan(x))
+
+
+def onset_within(
+    scene: Scene,
+    rtol: float,
+    *,
+    max_cells: int = CELLS[-1],
+    store: Store | str | Path | None = None,
+    compute: bool = True,
+) -> ToleranceOnset:
+    """The onset of ``scene`` on the cheapest rung (from ``standard``, N = 100) whose estimated
+    errors of t_c and kappa3 are at most ``rtol`` times their values.
+
+    The rungs (:func:`rungs`) run from the coarsest; after each, the errors of the
+    finest onset so far are estimated (:func:`error_estimate`); the first rung that
+    meets ``rtol`` is returned, or, if none up to ``max_cells`` cells does, the finest
+    one with ``met=False`` and a note saying what it reached.  Rungs without a buckled
+    onset (a coarse grid that misses it) take no part in the estimate.  ``store``:
+    read and write each rung as a record (:func:`~dyntorsion.studies.sweep.run_sweep`;
+    ``compute=False`` only reads); without it the rungs are computed here and kept
+    nowhere (``compute=False`` then is an error).  ``scene``'s own grid plays no part.
+    """
+    rtol = check_rtol(rtol)
+    if not isinstance(scene, Scene):
+        raise TypeError(f"scene={scene!r} must be a dyntorsion.buckling.scene.Scene")
+    if max_cells not in CELLS[2:]:
+        raise ValueError(f"max_cells={max_cells!r}; allowed: {', '.join(map(str, CELLS[2:]))}")
+    if store is None and not compute:
+        raise ValueError("compute=False reads the rungs from a store: give store")
+    run: Runner = run_scene if store is None else _store_runner(store, compute)
+    ladder = rungs(scene, CELLS.index(max_cells) + 1)
+    _, paced_by = pacing_time(scene)
+    grids: list[dict[str, Any]] = []
+    best: ToleranceOnset | None = None
+    for sc in ladder:
+        res = run(sc)
+        grids.append(
+            {
+                "rung": rung_name(sc.n_cells),
+                "n_cells": sc.n_cells,
+                "dt": sc.dt,
+                "status": res["status"],
+                "t_c": res["t_c"],
+                "kappa3": res["kappa3"],
+            }
+        )
+        best = _judge(grids, sc, rtol, paced_by)
+        if best.met:
+            return best
+    assert best is not None
+    if best.t_c_error is None:
+        note = f"fewer than three rungs up to N = {max_cells} buckled: no error estimate"
+    else:
+        worst = max(best.t_c_error / abs(best.t_c), best.kappa3_error / abs(best.kappa3))
+        note = (
+            f"rtol={rtol:g} not met up to N = {max_cells} cells: the finest rung's estimated "
+            f"relative error is {worst:.2g}; allow more cells (max_cells) or a looser rtol"
+        )
+    return replace(best, note=note)
+
+
+def _judge(grids: list[dict[str, Any]], sc: Scene, rtol: float, paced_by: str) -> ToleranceOnset:
+    """The onset of the last rung in ``grids`` with its error estimate, met or not."""
+    last = grids[-1]
+    seq = [g for g in grids if g["status"] == "buckled" and g["t_c"] is not None]
+    common = dict(n_cells=sc.n_cells, dt=sc.dt, rung=last["rung"], rtol=rtol, paced_by=paced_by)
+    if last not in seq or len(seq) < 3:
+        return ToleranceOnset(
+            t_c=last["t_c"], t_c_error=None, kappa3=last["kappa3"], kappa3_error=None,
+            met=False, status=last["status"], grids=tuple(grids), **common,
+        )  # fmt: skip
+    e_t = error_estimate([g["t_c"] for g in seq])
+    e_k = error_estimate([g["kappa3"] for g in seq])
+    met = e_t <= rtol * abs(last["t_c"]) and e_k <= rtol * abs(last["kappa3"])
+    return ToleranceOnset(
+        t_c=last["t_c"], t_c_error=e_t, kappa3=last["kappa3"], kappa3_error=e_k, met=met,
+        status=last["status"], grids=tuple(grids), **common,
+    )  # fmt: skip

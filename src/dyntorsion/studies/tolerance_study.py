@@ -1,0 +1,195 @@
+"""How honest is the error estimate of :func:`~dyntorsion.studies.tolerance.onset_within`?
+(beyond the paper; issue 34, item 1)
+
+Over the hold-out scenes of :func:`~dyntorsion.studies.presets.holdout_scenes` (the 16 Fig 10
+rates at three seeds, another rod, a tension and a compression), each run on the rungs
+N = 25..400 (preset ``tolerance-holdout``, cached in ``data/``), the estimated errors of
+t_c and kappa3 on the ``standard`` and ``fine`` rungs are set against their true errors,
+the differences from the reference, the onset on the N = 400 rung, which is two rungs
+finer than ``standard`` and one finer than ``fine`` (and itself checked against N = 800
+on the scenes :data:`~dyntorsion.studies.presets.HOLDOUT_CHECKED`).  An estimate
+*covers* when the true error is at most the estimate; its *overstatement* is the
+estimate over the true error.  The chooser itself runs at a tolerance on the same records.
+
+``python -m dyntorsion.studies.tolerance_study`` computes the preset's missing records
+(one process) and prints the coverage table.
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from ..store.location import default_store
+from ..store.results import Store
+from .presets import HOLDOUT_CHECKED, HOLDOUT_ROD, holdout_scenes, preset
+from .sweep import run_sweep
+from .tolerance import CELLS, error_estimate, onset_within, rung_name, rungs
+
+__all__ = ["GROUPS", "group_of", "pairs", "chooser", "coverage", "reference_check"]
+
+#: the groups of the coverage table, in order
+GROUPS: tuple[str, ...] = (
+    "Fig 10, seed 1e-8 N/m",
+    "Fig 10, seed 1e-12 N/m",
+    "Fig 10, seed 1e-17 N/m",
+    "another rod (D 1.5 mm, rho 5000)",
+    "tension 0.5 x Euler load",
+    "compression 0.25 x Euler load",
+)
+#: the rungs whose estimates are judged
+JUDGED: tuple[int, ...] = (100, 200)
+#: cells of the reference rung
+REFERENCE = CELLS[-1]
+
+
+def group_of(scene: Any) -> str:
+    """The :data:`GROUPS` entry of a hold-out scene."""
+    if scene.tension.T > 0:
+        return GROUPS[4]
+    if scene.tension.T < 0:
+        return GROUPS[5]
+    if scene.rod == HOLDOUT_ROD:
+        return GROUPS[3]
+    return {1e-8: GROUPS[0], 1e-12: GROUPS[1], 1e-17: GROUPS[2]}[scene.seed.magnitude]
+
+
+def _table(store: Store | str | Path | None) -> pd.DataFrame:
+    """Every record of the preset, read only."""
+    return run_sweep(
+        preset("tolerance-holdout"), store, compute=False, on_stale="error", progress=False
+    )
+
+
+def pairs(store: Store | str | Path | None = None) -> pd.DataFrame:
+    """One row per hold-out scene, judged rung and quantity (t_c, kappa3): the estimate,
+    the true error against the N = 400 reference, whether it covers, the overstatement."""
+    table = _table(store)
+    rows = []
+    for i, sc in enumerate(holdout_scenes()):
+        block = table.iloc[i * len(CELLS) : (i + 1) * len(CELLS)]
+        assert list(block.n_cells) == list(CELLS)
+        ok = bool((block.status == "buckled").all())
+        for q in ("t_c", "kappa3"):
+            vals = block[q].to_numpy(dtype=float)
+            ref = vals[-1]
+            for n in JUDGED:
+                k = CELLS.index(n)
+                est = error_estimate(vals[: k + 1]) if ok else np.nan
+                true = abs(vals[k] - ref) if ok else np.nan
+                rows.append(
+                    {
+                        "scene": i,
+                        "group": group_of(sc),
+                        "a": sc.a,
+                        "quantity": q,
+                        "rung": rung_name(n),
+                        "n_cells": n,
+                        "value": vals[k],
+                        "reference": ref,
+                        "estimate": est,
+                        "true": true,
+                        "buckled": ok,
+                        "covered": bool(true <= est) if ok else False,
+                        "overstatement": est / true if ok and true > 0 else np.inf,
+                    }
+                )
+    return pd.DataFrame(rows)
+
+
+def chooser(rtol: float, store: Store | str | Path | None = None) -> pd.DataFrame:
+    """:func:`~dyntorsion.studies.tolerance.onset_within` at ``rtol`` (up to the ``fine``
+    rung, N = 200) on every hold-out scene, read from the records, with the true errors
+    of the t_c and kappa3 it returns against the N = 400 reference."""
+    table = _table(store)
+    where = default_store() if store is None else store  # read, never compute
+    rows = []
+    for i, sc in enumerate(holdout_scenes()):
+        res = onset_within(sc, rtol, max_cells=200, store=where, compute=False)
+        ref = table.iloc[(i + 1) * len(CELLS) - 1]
+        row = {"scene": i, "group": group_of(sc), "a": sc.a, "rung": res.rung, "met": res.met}
+        for q in ("t_c", "kappa3"):
+            est, val = getattr(res, f"{q}_error"), getattr(res, q)
+            true = abs(val - ref[q]) if val is not None else np.nan
+            row.update(
+                {
+                    q: val,
+                    f"{q}_error": est,
+                    f"{q}_true": true,
+                    f"{q}_covered": est is not None and bool(true <= est),
+                }
+            )
+        rows.append(row)
+    return pd.DataFrame(rows)
+
+
+def coverage(
+    store: Store | str | Path | None = None,
+    rtol: float = 0.005,
+    pairs_: pd.DataFrame | None = None,
+    chosen: pd.DataFrame | None = None,
+) -> pd.DataFrame:
+    """The coverage table: per group and over all, the judged estimates (t_c and kappa3
+    on the ``standard`` and ``fine`` rungs), the share covered, the median overstatement
+    and the share overstated at most 3 times, and the chooser at ``rtol`` (``pairs_`` and
+    ``chosen``: :func:`pairs` and :func:`chooser` at ``rtol`` when already at hand)."""
+    p = pairs(store) if pairs_ is None else pairs_
+    c = chooser(rtol, store) if chosen is None else chosen
+    out = []
+    for name, sel_p, sel_c in [
+        *((g, p.group == g, c.group == g) for g in GROUPS),
+        ("all", p.group == p.group, c.group == c.group),
+    ]:
+        pp, cc = p[sel_p & p.buckled], c[sel_c]
+        out.append(
+            {
+                "scenes": int(sel_c.sum()),
+                "group": name,
+                "estimates": len(pp),
+                "covered": f"{100 * pp.covered.mean():.1f} %",
+                "overstatement, median": f"{pp.overstatement.median():.2g}",
+                "overstated <= 3x": f"{100 * (pp.overstatement <= 3).mean():.0f} %",
+                f"rtol {rtol:g}: met": f"{int(cc.met.sum())}/{len(cc)}",
+                "on standard / fine": f"{int((cc.met & (cc.rung == 'standard')).sum())} / "
+                f"{int((cc.met & (cc.rung == 'fine')).sum())}",
+                "t_c and kappa3 covered": f"{int((cc.t_c_covered & cc.kappa3_covered).sum())}/{len(cc)}",
+            }
+        )
+    return pd.DataFrame(out).set_index("group")
+
+
+def reference_check(store: Store | str | Path | None = None) -> pd.DataFrame:
+    """The reference (N = 400) against N = 800 on the scenes :data:`HOLDOUT_CHECKED`."""
+    scenes = holdout_scenes()
+    fine = [rungs(scenes[i], len(CELLS) + 1)[-2:] for i in HOLDOUT_CHECKED]
+    t = run_sweep(
+        [sc for two in fine for sc in two], store, compute=False, on_stale="error", progress=False
+    )
+    rows = []
+    for j, i in enumerate(HOLDOUT_CHECKED):
+        v400, v800 = t.t_c.iloc[2 * j], t.t_c.iloc[2 * j + 1]
+        rows.append(
+            {"scene": i, "group": group_of(scenes[i]), "a": scenes[i].a, "t_c, N = 400": v400,
+             "t_c, N = 800": v800, "relative difference": abs(v400 / v800 - 1)}
+        )  # fmt: skip
+    return pd.DataFrame(rows)
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--store", default=None)
+    ap.add_argument("--rtol", type=float, default=0.005)
+    args = ap.parse_args(argv)
+    run_sweep(preset("tolerance-holdout"), args.store, jobs=1, progress=False)
+    with pd.option_context("display.width", 200, "display.max_columns", 20):
+        print(coverage(args.store, args.rtol))
+        print(reference_check(args.store))
+    return 0
+
+
+if __name__ == "__main__":  # pragma: no cover
+    raise SystemExit(main())

@@ -1,0 +1,145 @@
+"""Accuracy on demand (dyntorsion.studies.tolerance, issue 34 item 1): the onset to a
+relative tolerance, with an a-posteriori error estimate that covers a converged reference."""
+
+import json
+import math
+
+import pytest
+
+import dyntorsion
+from dyntorsion.app.cli import main
+from dyntorsion.buckling.loading import AxialLoad, RampHold
+from dyntorsion.buckling.scene import Scene
+from dyntorsion.studies import fidelity
+from dyntorsion.studies import presets as P
+from dyntorsion.studies import tolerance as T
+
+BAD = [0.0, -0.1, math.nan, math.inf, 1.0001, 2.0, True, "0.01", None]
+
+
+@pytest.mark.parametrize("rtol", BAD)
+def test_bad_rtol_is_refused_naming_the_parameter_and_its_range(rtol):
+    with pytest.raises(ValueError, match=r"rtol=.*\(0, 1\]"):
+        T.check_rtol(rtol)
+    with pytest.raises(ValueError, match=r"rtol=.*\(0, 1\]"):
+        T.onset_within(Scene(a=1.6), rtol)
+    if rtol is not None:  # run_scene(scene, rtol=None) is the scene on its own grid
+        with pytest.raises(ValueError, match=r"rtol=.*\(0, 1\]"):
+            dyntorsion.run_scene(Scene(a=1.6), rtol=rtol)
+
+
+@pytest.mark.parametrize("text", ["0", "-1", "nan", "1.5", "inf"])
+def test_bad_rtol_on_the_command_line_is_refused(text, capsys):
+    with pytest.raises(SystemExit) as exit_:
+        main(["buckle", "--a", "1.6", "--rtol", text])
+    assert exit_.value.code == 2
+    assert "--rtol" in capsys.readouterr().err
+
+
+def test_good_rtol_and_max_cells():
+    assert T.check_rtol(1) == 1.0 and T.check_rtol(0.005) == 0.005
+    with pytest.raises(ValueError, match=r"max_cells=50; allowed: 100, 200, 400"):
+        T.onset_within(Scene(a=1.6), 0.01, max_cells=50)
+    with pytest.raises(TypeError, match="need rtol"):
+        dyntorsion.run_scene(Scene(a=1.6), max_cells=200)
+
+
+def test_the_estimate_is_the_larger_of_the_last_two_differences():
+    # an exact second-order sequence: covered, and overstated 12 times (|d_{K-1}| = 12 e_K)
+    v = [1.0 + 0.3 * 4.0**-k for k in range(5)]
+    for k in range(2, 5):
+        e = T.error_estimate(v[: k + 1])
+        assert e >= abs(v[k] - 1.0)
+        assert e == pytest.approx(12 * abs(v[k] - 1.0))
+    # first order: covered exactly
+    w = [1.0 + 0.3 * 2.0**-k for k in range(4)]
+    assert T.error_estimate(w) == pytest.approx(2 * abs(w[-1] - 1.0))
+    # two rungs that agree by coincidence do not make a small estimate
+    assert T.error_estimate([2.0, 1.0, 1.0 + 1e-9]) == pytest.approx(1.0)
+    with pytest.raises(ValueError, match="three"):
+        T.error_estimate([1.0, 2.0])
+    with pytest.raises(ValueError, match="finite"):
+        T.error_estimate([1.0, math.nan, 2.0])
+
+
+def test_the_rungs_halve_ds_and_dt_and_are_paced():
+    sc = Scene(a=1.6, kappa0=10.0)
+    rungs = T.rungs(sc)
+    assert [r.n_cells for r in rungs] == [25, 50, 100, 200, 400]
+    assert all(r.until == "first-peak" for r in rungs)
+    assert all(b.dt == a.dt / 2 for a, b in zip(rungs, rungs[1:], strict=False))
+    t_pace, by = T.pacing_time(sc)
+    assert by == "linear estimate"
+    assert rungs[2].dt == pytest.approx(t_pace / 384, rel=5e-3)  # the pacing's steps at N = 100
+    # an axial load: the delay law paces; a history the static theory does not reach: the ladder
+    loaded = Scene(a=1.6, kappa0=10.0, tension=AxialLoad(1e-5))
+    assert T.pacing_time(loaded)[1] == "delay law"
+    assert T.rungs(loaded, 3)[-1].dt == pytest.approx(T.pacing_time(loaded)[0] / 384, rel=5e-3)
+    held = Scene(history=RampHold(1.6, 20.0, 10.0), t_end=20.0)
+    assert T.pacing_time(held) == (None, "ladder")
+    assert T.rungs(held, 2)[1].dt == fidelity.get("buckling", "quick").dt
+
+
+def _converged(preset: str) -> float:
+    """The onset on the finest grid of an accuracy ladder in data/ (N = 400, dt = 0.00125 s)."""
+    t = P.cached(preset)
+    return float(t[(t.n_cells == 400) & (t.dt == 0.00125)].t_c.iloc[0])
+
+
+def test_the_estimate_covers_the_converged_onset_of_a_cheap_scene():
+    """The fast scene (a = 16): three rungs, about a second; the converged onset is the
+    ladder's finest grid (whose own neighbours agree to 1e-4 s)."""
+    ref = _converged("accuracy-fast")
+    res = T.onset_within(Scene(a=16.0, kappa0=10.0), 0.005)
+    assert res.met and res.status == "buckled"
+    assert res.rung == "standard" and res.n_cells == 100
+    assert abs(res.t_c - ref) <= res.t_c_error <= 0.005 * res.t_c
+    assert abs(res.kappa3 - (10.0 + 16.0 * ref)) <= res.kappa3_error
+    assert [g["n_cells"] for g in res.grids] == [25, 50, 100]
+    # a tolerance the standard rung cannot vouch for takes the next one
+    tight = T.onset_within(Scene(a=16.0, kappa0=10.0), 0.5 * res.t_c_error / res.t_c, max_cells=200)
+    assert tight.n_cells == 200 and len(tight.grids) == 4
+    assert abs(tight.t_c - ref) <= tight.t_c_error
+
+
+def test_an_unmet_tolerance_says_so():
+    res = T.onset_within(Scene(a=16.0, kappa0=10.0), 1e-9, max_cells=100)
+    assert not res.met and res.n_cells == 100
+    assert "rtol=1e-09 not met up to N = 100" in res.note
+
+
+def test_buckle_rtol_json_covers_the_converged_onset(capsys):
+    """Issue 34's "done when": ``dyntorsion buckle --a 1.6 --rtol 0.005 --json`` (the
+    Fig 8 scene, kappa0 = 0) returns t_c with an error that covers the converged value."""
+    code = main(["buckle", "--a", "1.6", "--rtol", "0.005", "--json"])
+    out = json.loads(capsys.readouterr().out)
+    assert code == 0
+    for key in ("t_c", "t_c_error", "kappa3", "kappa3_error", "grid"):
+        assert key in out
+    assert set(out["grid"]) == {"rung", "n_cells", "dt"}
+    ref = _converged("accuracy-fig08")
+    assert abs(out["t_c"] - ref) <= out["t_c_error"] <= 0.005 * out["t_c"]
+    assert abs(out["kappa3"] - 1.6 * ref) <= out["kappa3_error"]
+
+
+def test_buckle_json_without_rtol_is_one_object(capsys):
+    code = main(["buckle", "--a", "16", "--kappa0", "10", "--n-cells", "30", "--dt", "0.01",
+                 "--until", "first-peak", "--json"])  # fmt: skip
+    out = json.loads(capsys.readouterr().out)
+    assert code == 0 and out["status"] == "buckled"
+    assert out["t_c"] > 0 and "N=30" in out["scene"]
+
+
+def test_sweep_rtol_runs_each_rate_and_caches_the_rungs(tmp_path, capsys):
+    argv = ["sweep", "--rates", "16", "--kappa0", "10", "--rtol", "0.01", "--store", str(tmp_path)]
+    assert main(argv) == 0
+    out = capsys.readouterr().out
+    assert "t_c_error" in out and "standard" in out
+    assert len(list(tmp_path.glob("buckling-onset-*.json"))) == 3  # N = 25, 50, 100
+    # read back, computing nothing
+    res = T.onset_within(Scene(a=16.0, kappa0=10.0), 0.01, store=tmp_path, compute=False)
+    assert res.met and res.n_cells == 100
+    with pytest.raises(ValueError, match="give store"):
+        T.onset_within(Scene(a=16.0, kappa0=10.0), 0.01, compute=False)
+    assert main([*argv, "--jobs", "2"]) == 2
+    assert "drop --jobs" in capsys.readouterr().err
