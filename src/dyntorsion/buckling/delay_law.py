@@ -16,7 +16,15 @@ from ..model.rod import Rod
 from ..published import value
 from .statics import critical_twist
 
-__all__ = ["PowerLawFit", "fit_power_law", "eq33", "rate_number", "paper_law"]
+__all__ = [
+    "PowerLawFit",
+    "fit_power_law",
+    "eq33",
+    "rate_number",
+    "paper_law",
+    "FIT_SPACES",
+    "fit_in_space",
+]
 
 
 @dataclass(frozen=True)
@@ -240,3 +248,81 @@ def fit_power_law(
         n_points=int(a.size),
         rod=rod,
     )
+
+
+#: the spaces eq (33) can be fitted in (least squares of the residual in): the twist
+#: kappa3 (the paper's Fig 10 plots it), the log of the delay kappa3 - kappa_cri (a
+#: straight line on log-log axes), the time to buckle t = (kappa3 - kappa0) / a (Figs 8,
+#: 9 report it) and its log
+FIT_SPACES: tuple[str, ...] = ("kappa3", "log delay", "t", "log t")
+
+
+def fit_in_space(
+    a: Sequence[float],
+    kappa3: Sequence[float],
+    rod: Rod | None = None,
+    *,
+    space: str = "kappa3",
+    kappa_cri: float | str | None = "static",
+    kappa0: float = 0.0,
+) -> tuple[float, float, float]:
+    """(kappa_cri, b, sigma) of eq (33) fitted by unweighted least squares in ``space``
+    (:data:`FIT_SPACES`): the residual of kappa3, of ln(kappa3 - kappa_cri), of the time
+    to buckle t = (kappa3 - kappa0) / a, or of ln t.  ``kappa_cri`` as in
+    :func:`fit_power_law` ("static": eq 32; None: fitted too).  In ``"kappa3"`` with
+    kappa_cri fixed this is :func:`fit_power_law`'s fit (the paper's eq 34 reading); the
+    others are the readings the paper leaves open.  Raises ``ValueError`` if the fit
+    does not converge."""
+    import scipy.optimize
+
+    if space not in FIT_SPACES:
+        raise ValueError(f"space={space!r}; allowed: {', '.join(map(repr, FIT_SPACES))}")
+    rod = Rod.paper() if rod is None else rod
+    a, k = _numbers("a", a), _numbers("kappa3", kappa3)
+    if a.ndim != 1 or a.shape != k.shape or a.size < 4:
+        raise ValueError(f"a and kappa3 must be 1-D of one length >= 4 (got {a.shape}, {k.shape})")
+    if np.any(a <= 0) or not np.all(np.isfinite(k)):
+        raise ValueError("a must be > 0 and kappa3 finite")
+    if space in ("t", "log t") and np.any(k <= kappa0):
+        raise ValueError(f"kappa3 must exceed kappa0 = {kappa0:g} to fit the time to buckle")
+    free = kappa_cri is None
+    if isinstance(kappa_cri, str):
+        if kappa_cri != "static":
+            raise ValueError(f"kappa_cri={kappa_cri!r}; allowed: 'static', a number, None")
+        kappa_cri = critical_twist(rod)
+    x = rate_number(a, rod)
+    # start from the paper's fit (linear in kappa3), in the parameters ln(b / L) and sigma
+    start = fit_power_law(a, k, rod, kappa_cri=kappa_cri, n_boot=0)
+    p0 = [math.log(start.b / rod.L), start.sigma]
+    lo, hi = [-np.inf, 0.0], [np.inf, 3.0]
+    if free:
+        p0, lo, hi = [start.kappa_cri, *p0], [-np.inf, *lo], [float(k.min()), *hi]
+        if space == "log delay":
+            p0[0] = min(p0[0], float(k.min()) - 1e-6 * float(np.ptp(k)))
+            hi[0] = float(k.min()) - 1e-9 * float(np.ptp(k))
+
+    def parts(p):
+        kc, lb, sg = p if free else (kappa_cri, *p)
+        return kc, lb, sg
+
+    def residual(p):
+        kc, lb, sg = parts(p)
+        model = eq33(x, kc, math.exp(lb), sg)
+        if space == "kappa3":
+            return model - k
+        if space == "log delay":
+            return (lb + sg * np.log(x)) - np.log(np.maximum(k - kc, 1e-300))
+        if space == "t":
+            return (model - k) / a
+        return np.log(np.maximum(model - kappa0, 1e-300)) - np.log(k - kappa0)
+
+    if not free and space == "log delay" and np.any(k <= kappa_cri):
+        raise ValueError(
+            f"kappa3 must exceed kappa_cri = {kappa_cri:.6g} to fit ln(kappa3 - kappa_cri)"
+        )
+    with np.errstate(all="ignore"):
+        sol = scipy.optimize.least_squares(residual, p0, bounds=(lo, hi), xtol=1e-14, ftol=1e-14)
+    if not sol.success or not np.all(np.isfinite(sol.x)):
+        raise ValueError(f"eq (33) in space {space!r} did not converge ({sol.message})")
+    kc, lb, sg = parts(sol.x)
+    return float(kc), float(math.exp(lb) * rod.L), float(sg)

@@ -113,7 +113,7 @@ def region_quantile(n: int, level: float = LEVEL) -> float:
 def fit_cell(a: np.ndarray, kappa3: np.ndarray, rod: Rod | None = None) -> dict[str, float]:
     """Eq (33) on one cell's onsets: the fixed-kappa_cri fit (b, sigma, their standard
     errors, the misfit m3 of the paper's pair, the law's Fig 8 and Fig 9 times), the
-    free fit's kappa_cri, and ``paper_gap``: the paper's law (eq 34) against the onsets,
+    free fit's kappa_cri and its standard error, and ``paper_gap``: the paper's law (eq 34) against the onsets,
     the largest ``|kappa3(paper) - kappa3| / (kappa3 - kappa_cri)`` over the cell's rates (a
     test of claim 3 without a statistical model); NaN where a fit fails."""
     rod = Rod.paper() if rod is None else rod
@@ -127,6 +127,7 @@ def fit_cell(a: np.ndarray, kappa3: np.ndarray, rod: Rod | None = None) -> dict[
             "law_fig8",
             "law_fig9",
             "kappa_cri_free",
+            "kappa_cri_free_err",
             "paper_gap",
         ),
         math.nan,
@@ -156,7 +157,8 @@ def fit_cell(a: np.ndarray, kappa3: np.ndarray, rod: Rod | None = None) -> dict[
         law_fig9=f.time_to_buckle(1.6, 0.0, Rod(rho=5000.0)),
     )
     try:
-        out["kappa_cri_free"] = fit_power_law(a, kappa3, rod, kappa_cri=None, n_boot=0).kappa_cri
+        free = fit_power_law(a, kappa3, rod, kappa_cri=None, n_boot=0)
+        out["kappa_cri_free"], out["kappa_cri_free_err"] = free.kappa_cri, free.kappa_cri_err
     except ValueError:
         pass
     return out
