@@ -42,6 +42,10 @@ def test_the_smooth_start_begins_unstressed_and_joins_the_ramp():
     late = np.linspace(0.04, 5.0, 100)
     assert np.max(np.abs(h(late) - (10.0 + 1.6 * late))) <= 10.0 * math.exp(-16) * 1.0000001
     assert history_from_params(h.params()) == h
+    from dyntorsion.waves.transitions import smoothing  # section 5's f, the same function
+
+    tt = np.linspace(0.0, 0.1, 1001)
+    assert np.allclose(h(tt), 10.0 * (1 - smoothing(tt / 0.02)) + 1.6 * tt, rtol=1e-14, atol=1e-14)
     with pytest.raises(ValueError, match="tau"):
         SmoothStart(a=1.6, kappa0=10.0, tau=0.0)
 
