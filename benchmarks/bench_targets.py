@@ -1,10 +1,11 @@
-"""The speed targets of issue 16, each beside its floor and beside a baseline commit.
+"""The speed targets of issues 16 and 34, each beside its floor and beside a baseline commit.
 
     python benchmarks/bench_targets.py [--baseline COMMIT] [--quick]
 
 Every measurement runs twice in this one invocation: with the code of this checkout
-and with the code of ``--baseline`` (default 434e8a7, the engine before the Newton
-stopping test of session 9; 6fcb9be is the engine before any speed work), checked out into a temporary git worktree and run in a subprocess, so both
+and with the code of ``--baseline`` (default 1f90f1e, "today's engine" of issue 34;
+434e8a7 is the engine before the Newton stopping test of session 9, 6fcb9be the engine
+before any speed work), checked out into a temporary git worktree and run in a subprocess, so both
 see the same machine load.  Medians of repeated runs; nothing is asserted.  On the
 shared 2-core machine the same code measured 0.7x-1.5x of itself between runs, so the
 Newton counts per step of the Fig 8 scene are printed too (they do not depend on load).
@@ -200,7 +201,7 @@ def measure(src: Path, quick: bool) -> dict:
 
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    p.add_argument("--baseline", default="434e8a7", help="commit of the engine to compare with")
+    p.add_argument("--baseline", default="1f90f1e", help="commit of the engine to compare with")
     p.add_argument("--quick", action="store_true", help="a quarter of the Fig 10 rates")
     args = p.parse_args()
     start = time.perf_counter()
@@ -233,6 +234,12 @@ def main() -> None:
         ("linear prediction a=1.6 with waves", "linear_waves_s", now["sim_fig10_a1.6_s"]),
         ("linear prediction a=1.6, uniform ramp", "linear_ramp_s", now["sim_fig10_a1.6_s"]),
         ("(the simulated Fig 10 scene a=1.6 to 10 s)", "sim_fig10_a1.6_s", None),
+    ]  # fmt: skip
+    rows += [
+        ("issue 34: Fig 8 onset within 0.5 % (the fastest setting)", "fig8_fast_s", 0.010),
+        ("issue 34: 16-rate sweep, each onset within 0.5 % (paced)", "fig10_paced_s", 0.3),
+        ("issue 34: same-grid Fig 8 run, half the baseline's", "fig8_onset_s",
+         0.5 * base["fig8_onset_s"]),
     ]  # fmt: skip
     print(f"baseline {args.baseline}; medians; {time.perf_counter() - start:.0f} s in all")
     print(f"{'target':52s} {'floor':>8s} {'now':>9s} {'baseline':>9s} {'ratio':>6s}  met")
