@@ -36,11 +36,12 @@ import numpy as np
 
 from ...buckling.scene import Scene
 from ...buckling.simulation import RECORDED
+from ...buckling.stops import STRAIGHT
 from ...genalpha import ConvergenceError, Grid, Output, Sources, Stops, integrate
 from ...genalpha.guard import real
 from ...model.cosserat import Cosserat
 from .centreline import Reconstruction
-from .law import LawParams, contact_forces
+from .law import NO_CONTACT, LawParams, contact_forces
 from .topology import closed_polygon, link_turns, twist_turns, writhe_turns
 
 __all__ = ["Contact", "ContactScene", "ContactRun", "PassageError", "run_contact_scene"]
@@ -232,7 +233,10 @@ class _Between:
         for name, v in zip(("ends", "seed", "contact", "viscous"), dw):
             self.work[name] += float(v)
         v = self.recon.velocities(y)
-        cf = contact_forces(self.law, self.recon.r, v, self.c.fixtures)
+        if self.ds * np.sum(np.hypot(y[:, 6], y[:, 7])) < STRAIGHT:
+            cf = NO_CONTACT._replace(force=np.zeros_like(v))  # no part can reach another
+        else:
+            cf = contact_forces(self.law, self.recon.r, v, self.c.fixtures)
         f_body = self.recon.to_body(cf.force) / self.weights[:, None]
         q = np.zeros_like(self.pending)
         q[:, 0:3] = -f_body + self.c.viscous * y[:, 0:3]
@@ -337,6 +341,8 @@ def run_contact_scene(
         )  # fmt: skip
         stopped = run.stopped
     except ConvergenceError as err:
+        if err.run is None:
+            raise
         run = err.run
         stopped = f"failed: {err}"
     between.finish(run.y, stopped == "t_end")
