@@ -119,3 +119,64 @@ def test_near_neighbours_along_the_rod_never_touch_and_fixtures_hold_the_axis():
     cf = contact_forces(_law(), r2, np.zeros_like(r2))
     assert cf.pairs >= 1 and np.all(cf.touching[:, 1] == -1)
     assert contact_forces(_law(), r2, np.zeros_like(r2), fixtures=False).pairs == 0
+
+
+# ------------------------------------------------------------------ scenes and runs
+from dyntorsion.beyond.contact.run import Contact, ContactScene, run_contact_scene  # noqa: E402
+from dyntorsion.buckling.scene import Scene  # noqa: E402
+
+
+def test_a_contact_scene_keeps_the_scene_key_and_adds_the_contact():
+    scene = Scene(a=16.0, kappa0=10.0, t_end=6.0, n_cells=50, dt=0.01)
+    before = scene.params()
+    cs = ContactScene(scene, Contact(stiffness=500.0))
+    assert scene.params() == before and "contact" not in before
+    assert cs.params() == {**before, "contact": Contact(stiffness=500.0).params()}
+    # the lagged penalty's step: omega_c dt_run <= 0.5
+    w = math.sqrt(500.0 / scene.rod.mass_per_length)
+    assert w * cs.dt_run <= 0.5 < w * scene.dt / (cs.substeps() - 1)
+
+
+@pytest.mark.parametrize(
+    "kwargs, word",
+    [({"stiffness": 0.0}, "stiffness"), ({"damping": -1.0}, "damping"),
+     ({"min_arc": 0.5}, "min_arc"), ({"stability": 3.0}, "stability"),
+     ({"check": float("nan")}, "check")],
+)  # fmt: skip
+def test_bad_contact_numbers_are_refused_by_name(kwargs, word):
+    with pytest.raises(ValueError, match=word):
+        Contact(**kwargs)
+
+
+def test_before_contact_link_equals_twist_and_the_shape_stays_consistent():
+    """The straight twisted rod before buckling: Wr = 0, Lk = Tw to round-off, the energy
+    budget closed (no contact yet) and the rebuilt centreline on the axis."""
+    scene = Scene(a=16.0, kappa0=10.0, t_end=0.2, n_cells=50, dt=0.01)
+    res = run_contact_scene(ContactScene(scene, Contact(stiffness=200.0)), time_route=True).result()
+    assert res["stopped"] == "t_end" and res["first_contact_t"] is None
+    assert res["twist_turns"] == pytest.approx((10.0 + 16.0 * res["t_last"]) / (2 * np.pi), rel=0.02)
+    assert abs(res["writhe_turns"]) < 1e-9 and res["max_link_gap_turns"] < 1e-9
+    assert abs(res["energy_residual"]) < 1e-6
+    assert max(res["drift"].values()) < 1e-6
+
+
+def test_cli_buckle_contact_prints_one_json_object(capsys):
+    import json
+
+    from dyntorsion.app.cli import main
+
+    argv = ["buckle", "--a", "16", "--kappa0", "10", "--contact", "--t-end", "0.1",
+            "--fidelity", "quick", "--contact-stiffness", "200", "--json"]  # fmt: skip
+    assert main(argv) == 0
+    out = json.loads(capsys.readouterr().out)
+    for key in ("first_contact_t", "max_penetration_over_D", "contact_sites", "energy_residual",
+                "link_turns", "twist_turns", "writhe_turns", "stopped"):  # fmt: skip
+        assert key in out, key
+    assert out["stopped"] == "t_end" and out["first_contact_t"] is None
+
+
+def test_cli_contact_needs_an_end_time(capsys):
+    from dyntorsion.app.cli import main
+
+    assert main(["buckle", "--a", "16", "--contact", "--fidelity", "quick"]) != 0
+    assert "--t-end" in capsys.readouterr().err

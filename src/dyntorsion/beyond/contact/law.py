@@ -45,7 +45,7 @@ from scipy.spatial import cKDTree
 
 from ..._numba import jit
 
-__all__ = ["LawParams", "ContactForces", "contact_forces"]
+__all__ = ["LawParams", "ContactForces", "NO_CONTACT", "contact_forces"]
 
 
 class LawParams(NamedTuple):
@@ -140,14 +140,16 @@ def _self_forces(p: LawParams, r, v, pairs, out, touching):
 
 
 @jit
-def _fixture_forces(p: LawParams, r, v, tails, out, touching, count):
-    """Forces of the two fixed axis pieces ``tails`` (2, 2, 3) on the rod's segments more
-    than ``min_arc`` from the end each continues."""
+def _fixture_forces(p: LawParams, r, v, tails, near, out, touching, count):
+    """Forces of the two fixed axis pieces ``tails`` (2, 2, 3) on the rod's segments
+    ``near`` them (``near[k, i]``) more than ``min_arc`` from the end each continues."""
     n = r.shape[0] - 1
     worst, energy, power = 0.0, 0.0, 0.0
     still = np.zeros((2, 3))
     for k in range(2):
         for i in range(n):
+            if not near[k, i]:
+                continue
             gap = (n - 1 - i) * p.ds if k == 1 else i * p.ds
             if gap <= p.min_arc:
                 continue
@@ -164,6 +166,10 @@ def _fixture_forces(p: LawParams, r, v, tails, out, touching, count):
     return worst, count, energy, power
 
 
+#: the law's outcome where no two parts can touch (a nearly straight rod)
+NO_CONTACT = ContactForces(np.zeros((0, 3)), 0.0, 0, 0.0, 0.0, np.zeros((0, 2), np.int64))
+
+
 def contact_forces(p: LawParams, r: np.ndarray, v: np.ndarray, fixtures: bool = True) -> ContactForces:
     """The law (module docstring) at one level: centreline r and inertial velocities v of
     the nodes (N+1, 3)."""
@@ -178,6 +184,9 @@ def contact_forces(p: LawParams, r: np.ndarray, v: np.ndarray, fixtures: bool = 
         L = p.ds * (r.shape[0] - 1)
         e3 = np.array([0.0, 0.0, 1.0])
         tails = np.array([[r[0], r[0] - L * e3], [r[-1], r[-1] + L * e3]])
-        w2, count, e2, p2 = _fixture_forces(p, r, v, tails, out, touching, count)
+        low = np.minimum(r[1:, 2], r[:-1, 2])
+        high = np.maximum(r[1:, 2], r[:-1, 2])
+        near = np.array([low < r[0, 2] + p.diameter, high > r[-1, 2] - p.diameter])
+        w2, count, e2, p2 = _fixture_forces(p, r, v, tails, near, out, touching, count)
         worst, energy, power = max(worst, w2), energy + e2, power + p2
     return ContactForces(out, max(worst, 0.0), int(count), energy, power, touching[:count].copy())

@@ -15,7 +15,7 @@ steps, where the engine consults its stop test (every step):
   (omega_c = sqrt(k / rho A)): ``dt_run`` = scene.dt / m, m the smallest integer that
   does it -- the cost of the lag, stated in every result;
 * optional linear viscous damping per length, f = -``viscous`` u, m = -``viscous_moment`` w
-  (body frame), lagged the same way.
+  (body frame), implicit, in the model (:mod:`.damped`).
 
 Every ``check`` seconds it takes the topology (:mod:`.topology`): link from the end
 rotations, twist from kappa3, writhe of the closed centreline; a passage of the rod
@@ -36,11 +36,13 @@ import numpy as np
 
 from ...buckling.scene import Scene
 from ...buckling.simulation import RECORDED
+from ...buckling.stops import STRAIGHT
 from ...genalpha import ConvergenceError, Grid, Output, Sources, Stops, integrate
 from ...genalpha.guard import real
 from ...model.cosserat import Cosserat
 from .centreline import Reconstruction
-from .law import LawParams, contact_forces
+from .damped import damped_system
+from .law import NO_CONTACT, LawParams, contact_forces
 from .topology import closed_polygon, link_turns, twist_turns, writhe_turns
 
 __all__ = ["Contact", "ContactScene", "ContactRun", "PassageError", "run_contact_scene"]
@@ -206,10 +208,11 @@ class _Between:
         ends = -(m0 @ y[0, 3:6] + y[0, 9:12] @ y[0, 0:3]) + mL @ y[-1, 3:6] + y[-1, 9:12] @ y[-1, 0:3]
         w = self.weights
         seed = float(np.sum(w * np.einsum("ni,ni->n", self.f_seed, y[:, 0:3])))
-        src = -q  # f of the source, forces and moments, body frame
+        src = -q  # f of the source (the contact), body frame
         lin = float(np.sum(w * np.einsum("ni,ni->n", src[:, 0:3], y[:, 0:3])))
-        ang = float(np.sum(w * np.einsum("ni,ni->n", src[:, 3:6], y[:, 3:6])))
-        return np.array([ends, seed, lin, ang])
+        visc = -float(np.sum(w * (self.c.viscous * np.sum(y[:, 0:3] ** 2, axis=1)
+                                  + self.c.viscous_moment * np.sum(y[:, 3:6] ** 2, axis=1))))  # fmt: skip
+        return np.array([ends, seed, lin, visc])
 
     def field(self, s, t: float) -> np.ndarray:
         """The source q(s, t) of the level at t (the contact part; lagged)."""
@@ -232,11 +235,13 @@ class _Between:
         for name, v in zip(("ends", "seed", "contact", "viscous"), dw):
             self.work[name] += float(v)
         v = self.recon.velocities(y)
-        cf = contact_forces(self.law, self.recon.r, v, self.c.fixtures)
+        if self.ds * np.sum(np.hypot(y[:, 6], y[:, 7])) < STRAIGHT:
+            cf = NO_CONTACT._replace(force=np.zeros_like(v))  # no part can reach another
+        else:
+            cf = contact_forces(self.law, self.recon.r, v, self.c.fixtures)
         f_body = self.recon.to_body(cf.force) / self.weights[:, None]
         q = np.zeros_like(self.pending)
-        q[:, 0:3] = -f_body + self.c.viscous * y[:, 0:3]
-        q[:, 3:6] = self.c.viscous_moment * y[:, 3:6]
+        q[:, 0:3] = -f_body
         self.pending = q
         self.power_old = p_new
         self.dashpot += self.dt * cf.dissipation
@@ -316,7 +321,9 @@ def run_contact_scene(
         raise ValueError(f"t_end={t_end!r} must be > 0 [s]")
     dt, n = cs.dt_run, scene.n_cells
     model = Cosserat(rod, terms=dict(scene.terms), rotary_inertia_scale=scene.rotary_inertia_scale)
-    system = model.system()
+    c = cs.contact
+    damped = c.viscous > 0 or c.viscous_moment > 0
+    system = damped_system(model, c.viscous, c.viscous_moment) if damped else model.system()
     s = np.linspace(0.0, rod.L, n + 1)
     hist, load = scene.twist, scene.tension
     y0 = np.zeros((n + 1, 12))
@@ -337,6 +344,8 @@ def run_contact_scene(
         )  # fmt: skip
         stopped = run.stopped
     except ConvergenceError as err:
+        if err.run is None:
+            raise
         run = err.run
         stopped = f"failed: {err}"
     between.finish(run.y, stopped == "t_end")
