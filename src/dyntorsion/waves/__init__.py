@@ -15,9 +15,12 @@ module holds
   smooth release (eq 28, solution eq 29) -- as :class:`LinearLoading`,
   :class:`InstantRelease`, :class:`SmoothRelease`;
 * their exact series in NumPy (vectorised) and in mpmath (``precise=True``),
-  with a term count or a tolerance on a rigorous truncation bound;
+  with a term count or a tolerance on a rigorous truncation bound; in mpmath
+  without a term count, the whole series at any parameters (:mod:`.reference`:
+  chi-function tails, eq 29's Duhamel integrals by one shared rule and an
+  expansion by parts);
 * their closed-form d'Alembert solutions (travelling fronts with reflections),
-  an independent check of the series;
+  in NumPy or mpmath, an independent check of the series;
 * the smooth transition functions f of Fig 5 (:class:`ExpQuartic`, the default,
   and the fully flat :class:`FlatBlend`);
 * :func:`solve`, which runs a problem on the engine.

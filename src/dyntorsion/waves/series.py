@@ -74,7 +74,8 @@ def linear_loading_exact(
     bound :func:`linear_loading_bound` (pointwise where it is smaller) to be below
     ``tol``.
     ``precise=True`` sums in mpmath at ``digits`` digits and returns an object
-    array of mpf; it refuses (:class:`BudgetError`) work estimated above ``budget``
+    array of mpf: without ``terms`` the whole series, in closed form by Legendre's chi
+    function (:mod:`.reference`; ``tol`` is then met to working precision); it refuses (:class:`BudgetError`) work estimated above ``budget``
     seconds.
     """
     c, L = _scale("c", c), _scale("L", L)
@@ -164,6 +165,8 @@ def instant_release_exact(
     With ``tol`` the term count comes from the pointwise bound
     :func:`instant_release_bound` at the worst of the given points (points on a
     front cannot be served; pass ``terms`` or use :func:`instant_release_dalembert`).
+    ``precise=True`` without ``terms``: the whole series in mpmath, in closed form by
+    Legendre's chi function (:mod:`.reference`); on a front the mean of both sides.
     """
     c, L = _scale("c", c), _scale("L", L)
     kappa0 = _finite("kappa0", kappa0)
@@ -313,12 +316,14 @@ def smooth_release_exact(
         eta = sum_n (-1)^n 2 rate^2 kappa0 / (L c lambda_n) f''(rate tau) sin(c sqrt(lambda_n)(t - tau)) cos(sqrt(lambda_n) s)
 
     (for rate = 50 the factor 2 rate^2 is the paper's 5000).  The Duhamel
-    integrals are evaluated by composite Gauss-Legendre quadrature (NumPy) or
-    mpmath's Gauss-Legendre on one panel per period (``precise=True``), not by a
-    Riemann sum.  With ``tol`` (default 1e-6: each term costs a quadrature) the
-    term count comes from :func:`smooth_release_bound` (needs f''').  ``precise=True``
-    refuses (:class:`BudgetError`) work estimated above ``budget`` seconds: each term at
-    each distinct time is a quadrature over :func:`_duhamel_pieces` panels.
+    integrals are evaluated by composite Gauss-Legendre quadrature, not by a Riemann
+    sum.  NumPy: with ``tol`` (default 1e-6: each term costs a quadrature) the term
+    count comes from :func:`smooth_release_bound` (needs f''').  ``precise=True``
+    without ``terms``: the whole series in mpmath to ``tol`` (default
+    DEFAULT_TOL_PRECISE), the first N integrals by one shared rule and the rest by an
+    expansion by parts with a bounded remainder (:mod:`.reference`); with ``terms`` the
+    first ``terms`` terms.  It refuses (:class:`BudgetError`) work estimated above
+    ``budget`` seconds, saying what would make it possible.
     """
     c, L = _scale("c", c), _scale("L", L)
     rate = _scale("rate", rate)
