@@ -15,9 +15,12 @@ module holds
   smooth release (eq 28, solution eq 29) -- as :class:`LinearLoading`,
   :class:`InstantRelease`, :class:`SmoothRelease`;
 * their exact series in NumPy (vectorised) and in mpmath (``precise=True``),
-  with a term count or a tolerance on a rigorous truncation bound;
+  with a term count or a tolerance on a rigorous truncation bound; in mpmath
+  without a term count, the whole series at any parameters (:mod:`.reference`:
+  chi-function tails, eq 29's Duhamel integrals by one shared rule and an
+  expansion by parts);
 * their closed-form d'Alembert solutions (travelling fronts with reflections),
-  an independent check of the series;
+  in NumPy or mpmath, an independent check of the series;
 * the smooth transition functions f of Fig 5 (:class:`ExpQuartic`, the default,
   and the fully flat :class:`FlatBlend`);
 * :func:`solve`, which runs a problem on the engine.
@@ -29,13 +32,13 @@ from .checks import (
     DEFAULT_DIGITS,
     DEFAULT_TOL,
     DEFAULT_TOL_DUHAMEL,
+    DEFAULT_TOL_PRECISE,
     FIELDS,
     MAX_DUHAMEL_WORK,
     MAX_IMAGES,
     MAX_TERMS,
     MAX_TERMS_DUHAMEL,
     MP_BUDGET_S,
-    MP_PANEL_S,
     MP_TERM_S,
     sqrt_lambda,
 )
@@ -64,6 +67,7 @@ __all__ = [
     "DEFAULT_DIGITS",
     "DEFAULT_TOL",
     "DEFAULT_TOL_DUHAMEL",
+    "DEFAULT_TOL_PRECISE",
     "DEFAULT_TRANSITION",
     "ExpQuartic",
     "FIELDS",
@@ -75,7 +79,6 @@ __all__ = [
     "MAX_TERMS",
     "MAX_TERMS_DUHAMEL",
     "MP_BUDGET_S",
-    "MP_PANEL_S",
     "MP_TERM_S",
     "Problem",
     "SmoothRelease",

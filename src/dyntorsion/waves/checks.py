@@ -19,13 +19,15 @@ MAX_TERMS_DUHAMEL = 20_000
 DEFAULT_TOL = 1e-10
 #: default tolerance for eq (29), whose every term is a Duhamel integral
 DEFAULT_TOL_DUHAMEL = 1e-6
+#: default tolerance of the whole-series mpmath references (``precise=True`` without ``terms``)
+DEFAULT_TOL_PRECISE = 1e-20
 #: default working precision (decimal digits) of the mpmath references
 DEFAULT_DIGITS = 35
 #: the mpmath references refuse work estimated above this many seconds (``budget=``)
 MP_BUDGET_S = 60.0
-#: cost at 35 digits (measured on a 2-core 2026 machine): one series term at one point,
-#: one Gauss-Legendre panel of a Duhamel integral (scaled by digits / 35 above 35)
-MP_TERM_S, MP_PANEL_S = 3e-5, 2.5e-3
+#: cost at 35 digits (measured on a 2-core 2026 machine) of one series term at one point
+#: (scaled by digits / 35 above 35)
+MP_TERM_S = 3e-5
 #: the closed forms refuse more travelling images x points than this
 MAX_IMAGES = 2_000_000
 #: the NumPy Duhamel integrals of eq (29) refuse more evaluations than this per time

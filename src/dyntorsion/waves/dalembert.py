@@ -3,10 +3,11 @@ fronts with their reflections): an independent check of the series."""
 
 from __future__ import annotations
 
+import mpmath
 import numpy as np
 
 from ..genalpha.guard import BudgetError
-from .checks import MAX_IMAGES, _finite, _grid, _scale
+from .checks import DEFAULT_DIGITS, MAX_IMAGES, _finite, _grid, _scale
 from .transitions import DEFAULT_TRANSITION, Transition
 
 
@@ -33,23 +34,82 @@ def _images(t, s, c, L, disturbance, from_left: bool, n_max: int | None = None):
     return out
 
 
-def linear_loading_dalembert(s, t, *, a: float, kappa0: float = 0.0, c: float, L: float):
+def _images_mp(s, t, c, L, disturbance, from_left: bool, digits: int, period=None):
+    """:func:`_images` in mpmath, point by point (object array of mpf): the check of the
+    ``precise=True`` series.  ``period``: t is first reduced modulo it (in mpmath);
+    ``disturbance(tau, period_shift)`` gets the retarded time and the subtracted multiple."""
+    if not (isinstance(digits, int | np.integer) and digits >= 5):
+        raise ValueError(f"digits={digits!r} must be an integer >= 5")
+    k_max = int(np.max(c * (t if period is None else np.minimum(t, period)) / (2 * L))) + 1
+    if (k_max + 1) * max(1, t.size) > MAX_IMAGES:
+        raise BudgetError(
+            f"t={np.max(t):.4g} s (the latest time) is {k_max} wave transits 2L/c: {k_max + 1} images x "
+            f"{t.size} points exceeds {MAX_IMAGES:.3g}; pass earlier times or fewer points"
+        )
+    out = np.empty(np.broadcast(s, t).shape, dtype=object)
+    with mpmath.workdps(digits + 10):
+        mc, mL = mpmath.mpf(c), mpmath.mpf(L)
+        for idx in np.ndindex(out.shape):
+            ms, mt = mpmath.mpf(float(s[idx])), mpmath.mpf(float(t[idx]))
+            shift = mpmath.mpf(0)
+            if period is not None:
+                P = 4 * mL / mc
+                shift = mpmath.floor(mt / P) * P
+                mt -= shift
+            total = mpmath.mpf(0)
+            for k in range(int(mt * mc / (2 * mL)) + 2):
+                if from_left:
+                    d1, d2 = 2 * k * mL + ms, 2 * (k + 1) * mL - ms
+                else:
+                    d1, d2 = (2 * k + 1) * mL - ms, (2 * k + 1) * mL + ms
+                total += (-1) ** k * (disturbance(mt - d1 / mc) + disturbance(mt - d2 / mc))
+            out[idx] = (total, shift)
+    return out
+
+
+def linear_loading_dalembert(
+    s,
+    t,
+    *,
+    a: float,
+    kappa0: float = 0.0,
+    c: float,
+    L: float,
+    precise: bool = False,
+    digits: int = DEFAULT_DIGITS,
+):
     """Closed form of eq (23) with h = kappa0 + a t: kappa0 plus travelling ramps a (t - d/c)_+
-    with reflections (same sign at the free end s = L, opposite at the driven end s = 0)."""
+    with reflections (same sign at the free end s = L, opposite at the driven end s = 0).
+    ``precise=True``: in mpmath at ``digits`` digits (object array of mpf)."""
     c, L = _scale("c", c), _scale("L", L)
     a, kappa0 = _finite("a", a), _finite("kappa0", kappa0)
     s, t = _grid(s, t, L)
+    if precise:
+        ma = mpmath.mpf(a)
+        parts = _images_mp(s, t, c, L, lambda tau: ma * max(tau, 0), True, digits, period=4 * L / c)
+        return _finish(parts, lambda v, shift: kappa0 + ma * shift + v, digits)
     # kappa - a t has the period 4L/c of eq (25): evaluate within one period
     t_r = np.mod(t, 4 * L / c)
     ramp = lambda tau: a * np.maximum(tau, 0.0)  # noqa: E731
     return kappa0 + a * (t - t_r) + _images(t_r, s, c, L, ramp, from_left=True)
 
 
-def instant_release_dalembert(s, t, *, kappa0: float, c: float, L: float):
-    """Closed form of eq (26): kappa0 minus travelling steps; on a front the mean of both sides."""
+def instant_release_dalembert(
+    s, t, *, kappa0: float, c: float, L: float, precise: bool = False, digits: int = DEFAULT_DIGITS
+):
+    """Closed form of eq (26): kappa0 minus travelling steps; on a front the mean of both sides.
+    ``precise=True``: in mpmath at ``digits`` digits (object array of mpf)."""
     c, L = _scale("c", c), _scale("L", L)
     kappa0 = _finite("kappa0", kappa0)
     s, t = _grid(s, t, L)
+    if precise:
+        mk = mpmath.mpf(kappa0)
+
+        def step(tau):
+            return -mk if tau > 0 else (-mk / 2 if tau == 0 else 0)
+
+        parts = _images_mp(s, t, c, L, step, False, digits, period=4 * L / c)
+        return _finish(parts, lambda v, shift: mk + v, digits)
     step = lambda tau: -kappa0 * np.heaviside(tau, 0.5)  # noqa: E731
     # periodic in t with the period 4L/c of eq (27)
     return kappa0 + _images(np.mod(t, 4 * L / c), s, c, L, step, from_left=False)
@@ -64,8 +124,23 @@ def smooth_release_dalembert(
     L: float,
     rate: float = 50.0,
     f: Transition = DEFAULT_TRANSITION,
+    precise: bool = False,
+    digits: int = DEFAULT_DIGITS,
 ):
-    """Closed form of eq (28): kappa0 + travelling copies of kappa0 (f(rate t) - 1)."""
+    """Closed form of eq (28): kappa0 + travelling copies of kappa0 (f(rate t) - 1).
+    ``precise=True``: in mpmath at ``digits`` digits (object array of mpf)."""
     c, L = _scale("c", c), _scale("L", L)
     s, t = _grid(s, t, L)
+    if precise:
+        mk, mr = mpmath.mpf(kappa0), mpmath.mpf(rate)
+        parts = _images_mp(s, t, c, L, lambda tau: mk * (f.mp(mr * tau) - 1), False, digits)
+        return _finish(parts, lambda v, shift: mk + v, digits)
     return kappa0 + _images(t, s, c, L, lambda tau: kappa0 * (f(rate * tau) - 1.0), from_left=False)
+
+
+def _finish(parts, combine, digits):
+    out = np.empty(parts.shape, dtype=object)
+    with mpmath.workdps(digits):
+        for idx in np.ndindex(parts.shape):
+            out[idx] = +combine(*parts[idx])
+    return out

@@ -3,26 +3,29 @@ in NumPy and in mpmath (``precise=True``)."""
 
 from __future__ import annotations
 
+import functools
 import math
 
 import mpmath
 import numpy as np
 
 from ..genalpha.guard import BudgetError
+from . import reference
 from .checks import (
     DEFAULT_DIGITS,
     DEFAULT_TOL_DUHAMEL,
+    DEFAULT_TOL_PRECISE,
     MAX_DUHAMEL_WORK,
     MAX_TERMS,
     MAX_TERMS_DUHAMEL,
     MP_BUDGET_S,
-    MP_PANEL_S,
     MP_TERM_S,
     _chunked_sum,
     _finite,
     _grid,
     _mp_array,
     _mp_budget,
+    _positive_number,
     _scale,
     _terms,
     sqrt_lambda,
@@ -71,7 +74,8 @@ def linear_loading_exact(
     bound :func:`linear_loading_bound` (pointwise where it is smaller) to be below
     ``tol``.
     ``precise=True`` sums in mpmath at ``digits`` digits and returns an object
-    array of mpf; it refuses (:class:`BudgetError`) work estimated above ``budget``
+    array of mpf: without ``terms`` the whole series, in closed form by Legendre's chi
+    function (:mod:`.reference`; ``tol`` is then met to working precision); it refuses (:class:`BudgetError`) work estimated above ``budget``
     seconds.
     """
     c, L = _scale("c", c), _scale("L", L)
@@ -91,6 +95,18 @@ def linear_loading_exact(
         root = math.sqrt(8 * abs(a) * L * inv / (c * math.pi**2 * tol)) if inv < math.inf else inv
         return min(uniform, math.ceil((root - 1) / 2) if math.isfinite(root) else uniform)
 
+    if precise and terms is None:  # the whole series, summed in closed form
+        if tol is not None:
+            _positive_number("tol", tol)
+        _mp_budget(4 * s.size, reference.POLYLOG_S, digits, budget, "pass fewer points")
+        return _mp_array(
+            lambda si, ti: reference.linear_loading_sum(
+                si, ti, a=mpmath.mpf(a), kappa0=mpmath.mpf(kappa0), c=mpmath.mpf(c), L=mpmath.mpf(L)
+            ),
+            s,
+            t,
+            digits,
+        )
     n_terms = _terms(terms, tol, needed)
     if precise:
         _mp_budget(n_terms * s.size, MP_TERM_S, digits, budget, "pass fewer points or terms")
@@ -149,6 +165,8 @@ def instant_release_exact(
     With ``tol`` the term count comes from the pointwise bound
     :func:`instant_release_bound` at the worst of the given points (points on a
     front cannot be served; pass ``terms`` or use :func:`instant_release_dalembert`).
+    ``precise=True`` without ``terms``: the whole series in mpmath, in closed form by
+    Legendre's chi function (:mod:`.reference`); on a front the mean of both sides.
     """
     c, L = _scale("c", c), _scale("L", L)
     kappa0 = _finite("kappa0", kappa0)
@@ -161,6 +179,18 @@ def instant_release_exact(
             return MAX_TERMS + 1
         return math.ceil((C / tol - 1) / 2)
 
+    if precise and terms is None:  # the whole series, summed in closed form
+        if tol is not None:
+            _positive_number("tol", tol)
+        _mp_budget(s.size, reference.POLYLOG_S, digits, budget, "pass fewer points")
+        return _mp_array(
+            lambda si, ti: reference.instant_release_sum(
+                si, ti, kappa0=mpmath.mpf(kappa0), c=mpmath.mpf(c), L=mpmath.mpf(L)
+            ),
+            s,
+            t,
+            digits,
+        )
     n_terms = _terms(terms, tol, needed)
     if precise:
         _mp_budget(n_terms * s.size, MP_TERM_S, digits, budget, "pass fewer points or terms")
@@ -216,24 +246,6 @@ def _duhamel_np(t: float, n_terms: int, f: Transition, rate: float, c: float, L:
     for i in range(0, n_terms, chunk):
         out[i : i + chunk] = np.sin(np.outer(omega[i : i + chunk], t - tau)) @ g
     return out
-
-
-def _duhamel_pieces(t: float, n: int, rate: float, c: float, L: float) -> int:
-    """Panels of the mpmath Duhamel integral of term n: one per period, per 0.2 of x."""
-    omega = c * (2 * n - 1) * math.pi / (2 * L)
-    return int(max(2, math.ceil(omega * t / (2 * math.pi)), math.ceil(rate * t / 0.2)))
-
-
-def _duhamel_mp(t, n: int, f: Transition, rate, c, L):
-    omega = c * (2 * n - 1) * mpmath.pi / (2 * L)
-    if t == 0:
-        return mpmath.mpf(0)
-    pieces = _duhamel_pieces(float(t), n, float(rate), float(c), float(L))
-    return mpmath.quad(
-        lambda tau: f.mp(rate * tau, 2) * mpmath.sin(omega * (t - tau)),
-        mpmath.linspace(0, t, pieces + 1),
-        method="gauss-legendre",
-    )
 
 
 def smooth_release_bound(
@@ -304,12 +316,14 @@ def smooth_release_exact(
         eta = sum_n (-1)^n 2 rate^2 kappa0 / (L c lambda_n) f''(rate tau) sin(c sqrt(lambda_n)(t - tau)) cos(sqrt(lambda_n) s)
 
     (for rate = 50 the factor 2 rate^2 is the paper's 5000).  The Duhamel
-    integrals are evaluated by composite Gauss-Legendre quadrature (NumPy) or
-    mpmath's Gauss-Legendre on one panel per period (``precise=True``), not by a
-    Riemann sum.  With ``tol`` (default 1e-6: each term costs a quadrature) the
-    term count comes from :func:`smooth_release_bound` (needs f''').  ``precise=True``
-    refuses (:class:`BudgetError`) work estimated above ``budget`` seconds: each term at
-    each distinct time is a quadrature over :func:`_duhamel_pieces` panels.
+    integrals are evaluated by composite Gauss-Legendre quadrature, not by a Riemann
+    sum.  NumPy: with ``tol`` (default 1e-6: each term costs a quadrature) the term
+    count comes from :func:`smooth_release_bound` (needs f''').  ``precise=True``
+    without ``terms``: the whole series in mpmath to ``tol`` (default
+    DEFAULT_TOL_PRECISE), the first N integrals by one shared rule and the rest by an
+    expansion by parts with a bounded remainder (:mod:`.reference`); with ``terms`` the
+    first ``terms`` terms.  It refuses (:class:`BudgetError`) work estimated above
+    ``budget`` seconds, saying what would make it possible.
     """
     c, L = _scale("c", c), _scale("L", L)
     rate = _scale("rate", rate)
@@ -326,38 +340,10 @@ def smooth_release_exact(
         )
         return math.ceil((math.sqrt(worst / tol) + 1) / 2)
 
+    if precise:
+        return _smooth_release_precise(s, t, kappa0, c, L, rate, f, terms, tol, digits, budget)
     n_terms = _terms(terms, tol, needed, DEFAULT_TOL_DUHAMEL, MAX_TERMS_DUHAMEL)
     coef_n = np.arange(1, n_terms + 1)
-    if precise:
-        panels = sum(
-            _duhamel_pieces(float(ti), int(n), rate, c, L) for ti in np.unique(t) for n in coef_n
-        )
-        _mp_budget(
-            panels + n_terms * s.size,
-            MP_PANEL_S,
-            digits,
-            budget,
-            "pass fewer distinct times, fewer terms or a looser tol",
-        )
-        with mpmath.workdps(digits):
-            mL, mc, mr, mk = (mpmath.mpf(v) for v in (L, c, rate, kappa0))
-            cache: dict[float, list] = {}
-            out = np.empty(s.shape, dtype=object)
-            for idx in np.ndindex(s.shape):
-                ti = float(t[idx])
-                if ti not in cache:
-                    mt = mpmath.mpf(ti)
-                    cache[ti] = [_duhamel_mp(mt, int(n), f, mr, mc, mL) for n in coef_n]
-                mt, ms = mpmath.mpf(ti), mpmath.mpf(float(s[idx]))
-                total = mk * f.mp(mr * mt, 0)
-                for n, In in zip(coef_n, cache[ti], strict=True):
-                    k = (2 * int(n) - 1) * mpmath.pi / (2 * mL)
-                    total += (
-                        (-1) ** int(n) * 2 * mr**2 * mk / (mL * mc * k**2) * In * mpmath.cos(k * ms)
-                    )
-                out[idx] = total
-            return out
-
     k = sqrt_lambda(coef_n, L)
     sign = np.where(coef_n % 2 == 0, 1.0, -1.0)
     amp = sign * 2 * rate**2 * kappa0 / (L * c * k**2)
@@ -368,3 +354,37 @@ def smooth_release_exact(
         In = _duhamel_np(float(ti), n_terms, f, rate, c, L)
         out[mask] += np.cos(np.outer(s1[mask], k)) @ (amp * In)
     return out.reshape(s.shape)
+
+
+def _smooth_release_precise(s, t, kappa0, c, L, rate, f, terms, tol, digits, budget):
+    """Eq (29) in mpmath: the first N terms exactly, the rest by the expansion by parts
+    (:mod:`.reference`), to ``tol`` (default DEFAULT_TOL_PRECISE); ``terms=N`` truncates."""
+    _mp_budget(0, 0.0, digits, None, "")
+    if terms is not None:
+        _terms(terms, None, lambda tol: 1)
+    tol = DEFAULT_TOL_PRECISE if tol is None else _positive_number("tol", tol)
+    times = np.unique(t)
+    with mpmath.workdps(digits + 10):
+        plan = reference.smooth_release_plan(
+            times,
+            s.size,
+            c=c,
+            L=L,
+            rate=rate,
+            kappa0=kappa0,
+            f=f,
+            tol=tol,
+            digits=digits,
+            terms=terms,
+        )
+        if budget is not None and plan.seconds > _positive_number("budget", budget):
+            replan = functools.partial(
+                reference.smooth_release_plan,
+                times, s.size, c=c, L=L, rate=rate, kappa0=kappa0, f=f, digits=digits,
+            )  # fmt: skip
+            raise BudgetError(reference.refusal(plan, replan, f, tol, budget, c, L, rate, terms))
+        out = reference.smooth_release_sums(
+            s, t, kappa0=kappa0, c=c, L=L, rate=rate, f=f, plan=plan
+        )
+    with mpmath.workdps(digits):
+        return np.vectorize(lambda v: +v, otypes=[object])(out)

@@ -23,6 +23,11 @@ class Transition:
     #: highest derivative available
     max_order = 4
 
+    @property
+    def taylor_order(self) -> int:
+        """Highest order :meth:`mp_taylor` and :meth:`abs_derivative_integrals` serve."""
+        return self.max_order
+
     def __call__(self, x, k: int = 0) -> np.ndarray:
         self._check_order(k)
         x = np.asarray(x, dtype=float)
@@ -46,6 +51,31 @@ class Transition:
             return [
                 float(self.mp(eps, k)) if k <= self.max_order else math.nan for k in range(orders)
             ]
+
+    def mp_taylor(self, x, order: int) -> list:
+        """[f^(k)(x) / k! for k = 0 .. order] at one mpmath point x, order <= ``taylor_order``;
+        at x = 0 the limits from the right (the release's), for x < 0 the held f = 1."""
+        if not (isinstance(order, int | np.integer) and 0 <= order <= self.taylor_order):
+            raise ValueError(
+                f"order={order!r} must be an integer in [0, {self.taylor_order}] for {self.name}"
+            )
+        x = mpmath.mpf(x)
+        if x < 0:
+            return [mpmath.mpf(1)] + [mpmath.mpf(0)] * order
+        return [self._positive_mp(x, k) / mpmath.factorial(k) for k in range(order + 1)]
+
+    def abs_derivative_integrals(self, x_end: float, order: int, points: int = 801) -> np.ndarray:
+        """Estimates of int_0^x_end |f^(k)(x)| dx, k = 0 .. order <= ``taylor_order``
+        (trapezoid on ``points`` nodes, times 1.25): the remainder bound of eq (29)'s
+        expansion by parts."""
+        xs = np.linspace(0.0, x_end, points)
+        vals = np.array([np.abs(self(xs, k)) for k in range(order + 1)])
+        return 1.25 * np.trapezoid(vals, xs, axis=1)
+
+    def negligible_beyond(self, digits: int) -> float:
+        """An X with int_X^inf |f''(x)| dx <= 10^-digits (inf: unknown); eq (29)'s
+        Duhamel integrals stop there."""
+        return math.inf
 
     def _check_order(self, k: int) -> None:
         if not (isinstance(k, int | np.integer) and 0 <= k <= self.max_order):
@@ -80,18 +110,58 @@ class ExpQuartic(Transition):
     """
 
     name = "exp(-x^4)"
+    #: :meth:`mp_taylor` and :meth:`abs_derivative_integrals` serve any order
+    taylor_order = 10**6
 
     def __init__(self) -> None:
         self._polys = _poly_derivatives(self.max_order, np.polynomial.Polynomial([0, 0, 0, 0, -1]))
+        self._int_coef = [[int(c) for c in p.coef[::-1]] for p in self._polys]
 
     def _positive(self, x, k):
         return self._polys[k](x) * np.exp(-(x**4))
 
     def _positive_mp(self, x, k):
         total = mpmath.mpf(0)
-        for c in self._polys[k].coef[::-1]:  # Horner, exact integer coefficients
-            total = total * x + int(c)
+        for c in self._int_coef[k]:  # Horner, exact integer coefficients
+            total = total * x + c
         return total * mpmath.exp(-(x**4))
+
+    def mp_taylor(self, x, order: int) -> list:
+        """Taylor coefficients a_k = f^(k)(x) / k! of exp(-x^4) at x, any order, exactly:
+        exp(-(x + h)^4) = exp(-x^4) exp(p(h)), p(h) = -(4x^3 h + 6x^2 h^2 + 4x h^3 + h^4), and
+        E = exp(p) obeys E' = p' E, i.e. (k+1) e_{k+1} = sum_i i p_i e_{k+1-i}."""
+        if not (isinstance(order, int | np.integer) and order >= 0):
+            raise ValueError(f"order={order!r} must be an integer >= 0")
+        x = mpmath.mpf(x)
+        if x < 0:
+            return [mpmath.mpf(1)] + [mpmath.mpf(0)] * order
+        p = [0, -4 * x**3, -6 * x**2, -4 * x, -1]
+        e = [mpmath.mpf(1)]
+        for k in range(order):
+            e.append(sum(i * p[i] * e[k + 1 - i] for i in range(1, 5) if k + 1 - i >= 0) / (k + 1))
+        scale = mpmath.exp(-(x**4))
+        return [v * scale for v in e]
+
+    def abs_derivative_integrals(self, x_end: float, order: int, points: int = 2001) -> np.ndarray:
+        """As :meth:`Transition.abs_derivative_integrals`, with the Taylor recurrence of
+        :meth:`mp_taylor` vectorised in floats (the terms p_1 e_k dominate: no cancellation)."""
+        x = np.linspace(0.0, x_end, points)
+        p = [None, -4 * x**3, -6 * x**2, -4 * x, -np.ones_like(x)]
+        e = [np.ones_like(x)]
+        for k in range(order):
+            e.append(sum(i * p[i] * e[k + 1 - i] for i in range(1, 5) if k + 1 - i >= 0) / (k + 1))
+        vals = np.abs(np.array(e)) * np.exp(-(x**4))
+        vals *= np.array([float(math.factorial(k)) for k in range(order + 1)])[:, None]
+        return 1.25 * np.trapezoid(vals, x, axis=1)
+
+    def negligible_beyond(self, digits: int) -> float:
+        """X with int_X^inf |f''| <= 8 X^3 exp(-X^4) <= 10^-digits (X >= 2: |f''| <= 16 x^6
+        e^(-x^4) and x^6 e^(-x^4 / 2) falls, so the integral is below 16 X^6 e^(-X^4/2)
+        int_X^inf (x/X)^3 e^(-x^4/2) dx = 8 X^3 e^(-X^4))."""
+        X = 2.0
+        while math.log(8 * X**3) - X**4 > -digits * math.log(10):
+            X += 0.01
+        return X
 
 
 class FlatBlend(Transition):
@@ -152,6 +222,18 @@ class FlatBlend(Transition):
         sig, tau = expit(-p[0]), expit(p[0])
         out[inner] = self._chain(sig, tau, p, k) / self.width**k
         return out
+
+    def negligible_beyond(self, digits: int) -> float:
+        """f = 0 exactly from x = width on."""
+        return self.width
+
+    def mp_taylor(self, x, order: int) -> list:
+        """As :meth:`Transition.mp_taylor`; every derivative is 0 at x = 0 and from x = width on."""
+        head = super().mp_taylor(mpmath.mpf(-1), order)  # validates order
+        x = mpmath.mpf(x)
+        if x <= 0 or x >= self.width:
+            return [mpmath.mpf(1 if x <= 0 else 0)] + head[1:]
+        return super().mp_taylor(x, order)
 
     def _positive_mp(self, x, k):
         u = x / self.width
