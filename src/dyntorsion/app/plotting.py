@@ -181,6 +181,10 @@ def _drawn(artist, ax, renderer) -> bool:
         return any(_drawn(a, ax, renderer) for a in artist.get_children() if a is not None)
     if not artist.get_visible():
         return False
+    if ax.name == "3d":  # projected on drawing: only an empty artist is known not to show
+        segments = getattr(artist, "_segments3d", None)
+        data = artist.get_data_3d() if hasattr(artist, "get_data_3d") else None
+        return (segments is None or len(segments) > 0) and (data is None or len(data[0]) > 0)
     box = ax.get_window_extent(renderer)
     if isinstance(artist, Line2D):
         xy = artist.get_transform().transform(artist.get_xydata())
