@@ -73,16 +73,19 @@ def test_save_refuses_a_legend_entry_that_is_not_drawn(tmp_path, monkeypatch):
     ax.errorbar(x, x, yerr=0.1, fmt="o", label="points")
     ax.axvline(0.5, ls=":", label="a vertical line")
     ax.plot([-1.0, 2.0], [0.2, 0.8], label="crossing the view, no point inside")
+    ax.scatter(x, 1 - x, label="scattered")
+    ax.fill_between(x, 0.1, 0.2, label="a band")
     ax.set_xlim(0.0, 1.0)
     ax.set_ylim(0.0, 1.0)
     ax.legend()
     plotting.save(fig, "ok")  # every entry is drawn
     ax.plot(x, x + 5.0, label="above the view")
     ax.plot([], [], label="empty")
+    ax.scatter(x, x + 3.0, label="scattered above")
     hidden = ax.plot(x, 1 - x, label="invisible")[0]
     hidden.set_visible(False)
     ax.legend()
-    with pytest.raises(ValueError, match="above the view, empty, invisible"):
+    with pytest.raises(ValueError, match="above the view, empty, invisible, scattered above"):
         plotting.save(fig, "bad")
     assert not (tmp_path / "bad.png").exists()
     ax.get_legend().remove()  # a figure legend is checked too

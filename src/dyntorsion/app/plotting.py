@@ -173,6 +173,7 @@ def check_text_size(fig, name: str = "figure") -> None:
 
 def _drawn(artist, ax, renderer) -> bool:
     """Whether ``artist`` (a legend entry of ``ax``) leaves a mark inside ``ax``."""
+    from matplotlib.collections import Collection, PathCollection
     from matplotlib.container import Container
     from matplotlib.lines import Line2D
     from matplotlib.path import Path as MplPath
@@ -181,6 +182,10 @@ def _drawn(artist, ax, renderer) -> bool:
         return any(_drawn(a, ax, renderer) for a in artist.get_children() if a is not None)
     if not artist.get_visible():
         return False
+    if ax.name == "3d":  # projected on drawing: only an empty artist is known not to show
+        segments = getattr(artist, "_segments3d", None)
+        data = artist.get_data_3d() if hasattr(artist, "get_data_3d") else None
+        return (segments is None or len(segments) > 0) and (data is None or len(data[0]) > 0)
     box = ax.get_window_extent(renderer)
     if isinstance(artist, Line2D):
         xy = artist.get_transform().transform(artist.get_xydata())
@@ -192,6 +197,14 @@ def _drawn(artist, ax, renderer) -> bool:
         return len(xy) > 1 and artist.get_linestyle() not in ("None", " ", "") and (
             MplPath(xy).intersects_bbox(box, filled=False)
         )
+    if isinstance(artist, PathCollection):  # scatter: its points, in display units
+        xy = artist.get_offset_transform().transform(np.asarray(artist.get_offsets(), float))
+        return box.count_contains(xy[np.isfinite(xy).all(axis=1)]) > 0
+    if isinstance(artist, Collection):  # bands, polygons: their data limits
+        limits = artist.get_datalim(ax.transData)
+        return bool(np.isfinite(limits.get_points()).all()) and limits.transformed(
+            ax.transData
+        ).overlaps(box)
     extent = artist.get_window_extent(renderer)
     return extent.width >= 0 and extent.height >= 0 and extent.overlaps(box)
 

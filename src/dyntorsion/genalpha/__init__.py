@@ -1,7 +1,7 @@
 """The generalised-alpha method in space and time (section 3).
 
 The engine integrates any first-order system on a uniform grid s_j = j ds,
-j = 0..N, and time levels t_i = t_0 + i dt,
+j = 0..N, and time levels t_i = t_0 + i dt, ::
 
     M y_t + K y_s + F(y) + q(s, t) = 0,                                   (eq 7)
 
@@ -11,7 +11,7 @@ nothing about rods: a model supplies M, K, F, dF/dy (compiled) and its scales.
 
 Discretisation.  Substituting eq (11) into eq (10) with the parameters of
 eq (13) (for which beta + gamma = 1, hence zeta = 0 in eq 12) gives, for the
-cell between nodes j-1 and j,
+cell between nodes j-1 and j, ::
 
     M [(1-a_s) abar_j + a_s abar_{j-1}]
       + K [(1-b_t)(y_j^i - y_{j-1}^i) + b_t (y_j^{i-1} - y_{j-1}^{i-1})] / ds

@@ -1,6 +1,6 @@
 """One step of the scheme as a nonlinear system: residual and Jacobian of eq (10)-(12).
 
-For the cell between nodes j-1 and j (see :mod:`dyntorsion.genalpha`)
+For the cell between nodes j-1 and j (see :mod:`dyntorsion.genalpha`) ::
 
     R_j = M [(1-a_s) abar_j + a_s abar_{j-1}]
           + K [(1-b_t)(y_j^i - y_{j-1}^i) + b_t (y_j^{i-1} - y_{j-1}^{i-1})] / ds

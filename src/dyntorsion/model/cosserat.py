@@ -1,8 +1,8 @@
-"""The body-frame Cosserat rod of section 2: eq (6) written as eq (7),
+"""The body-frame Cosserat rod of section 2: eq (6) written as eq (7), ::
 
     M y_t + K y_s + F(y) + q(s, t) = 0,        y = (u, w, k, n)  (12 fields),
 
-with the linear constitutive law m = diag(B1, B2, C) k.  Rows, in order:
+with the linear constitutive law m = diag(B1, B2, C) k.  Rows, in order::
 
     linear momentum   rho A u_t - n_s - k x n + rho A (w x u)            - f = 0
     angular momentum  rho I w_t - K^ k_s - k x (K^ k) - d3 x n + w x (rho I w) = 0

@@ -1,7 +1,7 @@
 """Prebuckling torsional waves (section 5).
 
 While the rod is straight only kappa = k3 and omega = w3 are nonzero and eq (6)
-reduces to the reduced moment balance and the reduced compatibility equation
+reduces to the reduced moment balance and the reduced compatibility equation ::
 
     rho J omega_t = G J kappa_s,      kappa_t = omega_s,                (eq 22)
 
