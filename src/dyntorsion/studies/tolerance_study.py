@@ -133,25 +133,29 @@ def coverage(
     chosen: pd.DataFrame | None = None,
 ) -> pd.DataFrame:
     """The coverage table of the hold-out set ``name``: per group, per judged rung and
-    over all, the estimates (t_c and kappa3), the share covered, the median
-    overstatement and the share overstated at most 3 times, and the chooser at ``rtol``
-    (``pairs_`` and ``chosen``: :func:`pairs` and :func:`chooser` when at hand)."""
+    over all, the estimates of t_c, the share covered, the median overstatement and the
+    share overstated at most 3 times, the share of the kappa3 estimates covered (for a
+    ramp kappa3 = kappa0 + a t_c: the same test, but kept apart), and the chooser at
+    ``rtol`` (``pairs_`` and ``chosen``: :func:`pairs` and :func:`chooser` when at hand)."""
     p = pairs(name, store) if pairs_ is None else pairs_
     c = chooser(rtol, name, store) if chosen is None else chosen
+    p = p[p.buckled]
     out = []
     for group in [*dict.fromkeys(c.group), "all"]:
         cc = c if group == "all" else c[c.group == group]
         for rung in (*(rung_name(n) for n in JUDGED), "all"):
             pp = p if group == "all" else p[p.group == group]
-            pp = pp[pp.buckled] if rung == "all" else pp[pp.buckled & (pp.rung == rung)]
+            pp = pp if rung == "all" else pp[pp.rung == rung]
+            tc, k3 = pp[pp.quantity == "t_c"], pp[pp.quantity == "kappa3"]
             row = {
                 "group": group,
                 "rung": rung,
                 "scenes": len(cc),
-                "estimates": len(pp),
-                "covered": f"{100 * pp.covered.mean():.1f} %",
-                "overstatement, median": f"{pp.overstatement.median():.2g}",
-                "overstated <= 3x": f"{100 * (pp.overstatement <= 3).mean():.0f} %",
+                "t_c estimates": len(tc),
+                "covered": f"{100 * tc.covered.mean():.1f} %",
+                "overstatement, median": f"{tc.overstatement.median():.2g}",
+                "overstated <= 3x": f"{100 * (tc.overstatement <= 3).mean():.0f} %",
+                "kappa3 covered": f"{100 * k3.covered.mean():.1f} %",
                 f"rtol {rtol:g}: met": "",
                 "t_c and kappa3 covered": "",
             }
