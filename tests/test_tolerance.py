@@ -140,3 +140,21 @@ def test_sweep_rtol_runs_each_rate_and_caches_the_rungs(tmp_path, capsys):
         T.onset_within(Scene(a=16.0, kappa0=10.0), 0.01, compute=False)
     assert main([*argv, "--jobs", "2"]) == 2
     assert "drop --jobs" in capsys.readouterr().err
+
+
+def test_the_hold_out_sets_are_covered():
+    """Issue 34's honesty check on the committed records (presets tolerance-holdout and
+    tolerance-holdout-2): on at least 60 scenes of each set, every one buckled on every
+    rung, the fine rung's estimate of t_c covers its true error (against N = 400) in at
+    least 95 % of the scenes, and the chooser's answers at rtol 0.005 are covered as often."""
+    from dyntorsion.studies import tolerance_study as TS
+
+    for name in TS.SETS:
+        p = TS.pairs(name)
+        fine = p[(p.rung == "fine") & (p.quantity == "t_c")]
+        assert fine.scene.nunique() >= 60 and fine.buckled.all()
+        assert fine.covered.mean() >= 0.95
+        c = TS.chooser(0.005, name)
+        met = c[c.met]
+        assert len(met) > len(c) / 2
+        assert (met.t_c_covered & met.kappa3_covered).mean() >= 0.95
