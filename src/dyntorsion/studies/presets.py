@@ -157,44 +157,56 @@ def _step_grid() -> list[Scene]:
     ]
 
 
-#: the hold-out set of the error estimate of :func:`~dyntorsion.studies.tolerance.onset_within`
-#: (issue 34): the 16 Fig 10 rates at three seeds, another rod (thicker and denser) and
-#: the rate sweep under a tension and a compression (half and a quarter of the clamped
-#: Euler load), every third Fig 10 rate for the last two
-HOLDOUT_SEEDS: dict[str, Perturbation] = {
-    "1e-8": SEEDS["stated"],
-    "1e-12": Perturbation(1e-12),
-    "1e-17": SEEDS["tiny"],
+#: the hold-out sets of the error estimate of :func:`~dyntorsion.studies.tolerance.onset_within`
+#: (issue 34): Fig 10 rates at three seeds, another rod, and rate sweeps under a tension
+#: and a compression (fractions of the clamped Euler load).  The first set was computed
+#: with the estimate fixed beforehand; the second (rates half a step of 10^(1/6) between
+#: Fig 10's, other seeds, another rod and loads) after the chooser's rule was changed
+#: in view of the first ("Accuracy and cost" page)
+HALF_RATES: tuple[float, ...] = tuple(float(1.6 * 10 ** ((k + 0.5) / 6)) for k in range(-9, 6))
+HOLDOUTS: dict[str, dict[str, Any]] = {
+    "tolerance-holdout": {
+        "rates": FIG10_RATES,
+        "seeds": (STATED, 1e-12, 1e-17),
+        "rod": Rod(D=1.5e-3, rho=5000.0),
+        "rod_rates": TENSION_RATES,
+        "loads": (0.5, -0.25),
+    },
+    "tolerance-holdout-2": {
+        "rates": HALF_RATES,
+        "seeds": (1e-10, 1e-14, 1e-16),
+        "rod": Rod(E=2.5e7, D=0.8e-3, rho=1000.0),
+        "rod_rates": HALF_RATES[::3],
+        "loads": (0.25, -0.5),
+    },
 }
-HOLDOUT_ROD = Rod(D=1.5e-3, rho=5000.0)
-#: the hold-out scenes whose reference is checked one rung finer still (N = 800)
+#: the scenes of the first hold-out set whose reference is checked one rung finer (N = 800)
 HOLDOUT_CHECKED: tuple[int, ...] = (0, 8, 15)
 
 
-def holdout_scenes() -> list[Scene]:
-    """The hold-out scenes (:data:`HOLDOUT_SEEDS`, :data:`HOLDOUT_ROD`), with the step-size
-    control of the presets; their grids play no part (the rungs set them)."""
-    fig10 = [sc for name in HOLDOUT_SEEDS for sc in _holdout_fig10(name)]
-    rod = [Scene(a=a, kappa0=10.0, rod=HOLDOUT_ROD, seed=SEEDS["stated"]) for a in TENSION_RATES]
-    loads = [sc for f in (0.5, -0.25) for sc in tension_scenes(f)]
+def holdout_scenes(name: str = "tolerance-holdout") -> list[Scene]:
+    """The scenes of a hold-out set (:data:`HOLDOUTS`), with the step-size control of the
+    presets; their grids play no part (the rungs set them)."""
+    h = HOLDOUTS[name]
+    fig10 = [Scene(a=a, kappa0=10.0, seed=Perturbation(m)) for m in h["seeds"] for a in h["rates"]]
+    rod = [Scene(a=a, kappa0=10.0, rod=h["rod"], seed=SEEDS["stated"]) for a in h["rod_rates"]]
+    loads = [sc for f in h["loads"] for sc in tension_scenes(f, h["rod_rates"])]
     return [
         replace(sc, scheme=replace(sc.scheme, control=PRESET_CONTROL))
         for sc in (*fig10, *rod, *loads)
     ]
 
 
-def _holdout_fig10(seed: str) -> list[Scene]:
-    return [Scene(a=a, kappa0=10.0, seed=HOLDOUT_SEEDS[seed]) for a in FIG10_RATES]
-
-
-def _holdout() -> list[Scene]:
-    """Every hold-out scene on the rungs N = 25..400 of
-    :func:`~dyntorsion.studies.tolerance.rungs` (N = 400 is the reference), and the
-    scenes :data:`HOLDOUT_CHECKED` at N = 800 too."""
+def _holdout(name: str) -> list[Scene]:
+    """Every scene of a hold-out set on the rungs N = 25..400 of
+    :func:`~dyntorsion.studies.tolerance.rungs` (N = 400 is the reference), and for the
+    first set the scenes :data:`HOLDOUT_CHECKED` at N = 800 too."""
     from .tolerance import CELLS, rungs
 
-    scenes = holdout_scenes()
+    scenes = holdout_scenes(name)
     out = [r for sc in scenes for r in rungs(sc, len(CELLS))]
+    if name != "tolerance-holdout":
+        return out
     return out + [rungs(scenes[i], len(CELLS) + 1)[-1] for i in HOLDOUT_CHECKED]
 
 
@@ -218,7 +230,8 @@ PRESETS: dict[str, Callable[[], list[Scene]]] = {
     "tension": lambda: [sc for f in TENSION_FRACTIONS for sc in tension_scenes(f)],
     **{name: (lambda name=name: _start_or_seed(name)) for name in STARTS_AND_SEEDS},
     "start-step-grid": _step_grid,
-    "tolerance-holdout": _holdout,
+    "tolerance-holdout": lambda: _holdout("tolerance-holdout"),
+    "tolerance-holdout-2": lambda: _holdout("tolerance-holdout-2"),
 }
 
 
