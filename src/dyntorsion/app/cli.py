@@ -15,7 +15,6 @@ from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
-import pandas as pd
 
 from .. import __version__
 from ..buckling.delay_law import fit_power_law
@@ -26,7 +25,8 @@ from ..store.results import ON_CORRUPT, ON_STALE, Store
 from ..studies.presets import PRESETS, cached, preset
 from ..studies.sweep import KIND, run_sweep
 from .cli_options import add_scene_options, parse_rates, scene_from
-from .contact_cli import add_contact_options, buckle_contact, print_json
+from .cli_rtol import RTOL_HELP, buckle_rtol, result_json, rtol_type, sweep_rtol
+from .contact_cli import add_contact_options, buckle_contact
 from .faults import EXIT_INTERRUPTED, describe
 
 
@@ -35,49 +35,19 @@ def _peak_twist(scene: Scene) -> float:
     return float(np.max(np.abs(scene.twist(np.linspace(0.0, scene.duration(), 4001)))))
 
 
-def _buckle_rtol(args: argparse.Namespace, scene: Scene) -> int:
-    """``buckle --rtol R``: the onset on the cheapest rung that meets R, with its error."""
-    from ..studies.tolerance import onset_within
-
-    res = onset_within(scene, args.rtol, store=args.store)
-    grid = {"rung": res.rung, "n_cells": res.n_cells, "dt": res.dt}
-    if args.json:
-        out = {"scene": scene.label().rsplit(" N=", 1)[0], **res.as_dict(), "grid": grid}
-        print_json(out)
-        return 0 if res.met else 1
-    print(f"scene      {scene.label().rsplit(' N=', 1)[0]} (grid chosen for rtol={res.rtol:g})")
-    for g in res.grids:
-        tc = "-" if g["t_c"] is None else f"{g['t_c']:.5f} s"
-        print(
-            f"rung       {g['rung']:<9} N={g['n_cells']:<4} dt={g['dt']:.4g} s  {g['status']:<9} t_c = {tc}"
-        )
-    print(f"status     {res.status}")
-    if res.t_c_error is None:
-        print(res.note)
-        return 1
-    print(f"t_c        {res.t_c:.5f} +- {res.t_c_error:.2g} s (estimated discretisation error)")
-    print(f"kappa3     {res.kappa3:.5f} +- {res.kappa3_error:.2g} 1/m")
-    print(
-        f"grid       {res.rung}: N = {res.n_cells}, dt = {res.dt:.4g} s (paced by the {res.paced_by})"
-    )
-    if not res.met:
-        print(res.note)
-    return 0 if res.met and res.status == "buckled" else 1
-
-
 def _buckle(args: argparse.Namespace) -> int:
     scene = scene_from(args, args.a)
     if args.contact:
         return buckle_contact(args, scene)
     if args.rtol is not None:
-        return _buckle_rtol(args, scene)
+        return buckle_rtol(args, scene)
     if args.store:
         table = run_sweep([scene], args.store, on_stale=args.on_stale, progress=False)
         row = table.iloc[0].to_dict()
     else:
         row = run_scene(scene)
     if args.json:
-        print_json({"scene": scene.label(), **row})
+        print(result_json({"scene": scene.label(), **row}))
         return 0 if row["status"] == "buckled" else 1
     try:
         kappa_cri = scene.kappa_cri()
@@ -214,41 +184,10 @@ def _log(message: str) -> None:
     tqdm.write(message, file=sys.stderr)
 
 
-def _sweep_rtol(args: argparse.Namespace, scenes: list[Scene]) -> int:
-    """``sweep --rtol R``: each scene on the cheapest rung that meets R (one after another;
-    the rungs are cached in the store like any scene)."""
-    from ..studies.tolerance import onset_within
-
-    if args.jobs != 1 or args.dask_local or args.scheduler:
-        raise ValueError(
-            "--rtol runs the scenes one after another in this process (each rung decides the "
-            "next); drop --jobs/--dask-local/--scheduler"
-        )
-    rows = []
-    for sc in scenes:
-        res = onset_within(sc, args.rtol, store=args.store)
-        rows.append({"a": sc.a, **{k: v for k, v in res.as_dict().items() if k != "grids"}})
-    table = pd.DataFrame(rows)
-    cols = [
-        "a",
-        "t_c",
-        "t_c_error",
-        "kappa3",
-        "kappa3_error",
-        "rung",
-        "n_cells",
-        "dt",
-        "met",
-        "status",
-    ]
-    print(table[cols].to_string(index=False, float_format=lambda v: f"{v:.5g}"))
-    return 0 if table.met.all() else 1
-
-
 def _sweep(args: argparse.Namespace) -> int:
     scenes = _sweep_scenes(args)
     if args.rtol is not None:
-        return _sweep_rtol(args, scenes)
+        return sweep_rtol(args, scenes)
     executor, client, cluster = None, None, None
     if args.dask_local < 0:
         raise ValueError(f"--dask-local={args.dask_local} must be >= 1 workers (or 0: off)")
@@ -391,23 +330,6 @@ def _info(args: argparse.Namespace) -> int:
     for key, val in rows.items():
         print(f"{key:<{width}}  {val}")
     return 0
-
-
-RTOL_HELP = (
-    "relative tolerance of t_c and kappa3 in (0, 1]: run the scene on the rungs of the "
-    "fidelity ladder (dyntorsion.studies.tolerance; paced steps) until the estimated "
-    "discretisation error meets R, and print it (overrides --n-cells, --dt, --fidelity, --paced)"
-)
-
-
-def rtol_type(text: str) -> float:
-    """``--rtol``: a relative tolerance in (0, 1]."""
-    from ..studies.tolerance import check_rtol
-
-    try:
-        return check_rtol(float(text))
-    except ValueError as err:
-        raise argparse.ArgumentTypeError(str(err).replace("rtol=", "--rtol ")) from None
 
 
 #: argparse takes "-1e9" for an option; a number in any float notation is a value

@@ -34,7 +34,16 @@ from .presets import HOLDOUT_CHECKED, HOLDOUTS, holdout_scenes, preset
 from .sweep import run_sweep
 from .tolerance import CELLS, error_estimate, onset_within, rung_name, rungs
 
-__all__ = ["SETS", "group_of", "pairs", "chooser", "coverage", "reference_check"]
+__all__ = [
+    "SETS",
+    "RULES",
+    "group_of",
+    "pairs",
+    "chooser",
+    "coverage",
+    "alternatives",
+    "reference_check",
+]
 
 #: the rungs whose estimates are judged
 JUDGED: tuple[int, ...] = (100, 200)
@@ -165,6 +174,43 @@ def coverage(
                 row["t_c and kappa3 covered"] = f"{int(both.sum())}/{len(cc)}"
             out.append(row)
     return pd.DataFrame(out).set_index(["group", "rung"])
+
+
+#: error rules set beside the chooser's on the ``fine`` rung, from the differences
+#: d = (|d_K|, |d_{K-1}|) of t_c between it and the two rungs below
+RULES: dict[str, Any] = {
+    "max(|d_K|, |d_K-1|) (the chooser's)": lambda d: max(d[0], d[1]),
+    "max(|d_K|, |d_K-1| / 2)": lambda d: max(d[0], d[1] / 2),
+    "max(|d_K|, |d_K-1| / 4)": lambda d: max(d[0], d[1] / 4),
+    "|d_K| (Richardson, order 1)": lambda d: d[0],
+    "|d_K| / 3 (Richardson, order 2)": lambda d: d[0] / 3,
+}
+
+
+def alternatives(store: Store | str | Path | None = None) -> pd.DataFrame:
+    """Each rule of :data:`RULES` on the ``fine`` rung's t_c over each hold-out set: the
+    share of scenes covered, the median overstatement and the share within 3 times."""
+    rows = []
+    for name in SETS:
+        t = _table(name, store)
+        k = CELLS.index(JUDGED[-1])
+        v = t.t_c.to_numpy(dtype=float)[: len(holdout_scenes(name)) * len(CELLS)]
+        v = v.reshape(-1, len(CELLS))
+        true = np.abs(v[:, k] - v[:, -1])
+        d = np.abs(np.diff(v[:, : k + 1], axis=1))[:, ::-1]  # |d_K|, |d_K-1|, ...
+        for rule, f in RULES.items():
+            est = np.array([f(row) for row in d])
+            over = est / true
+            rows.append(
+                {
+                    "rule": rule,
+                    "set": name,
+                    "covered": f"{100 * np.mean(true <= est):.1f} %",
+                    "overstatement, median": f"{np.median(over):.2g}",
+                    "overstated <= 3x": f"{100 * np.mean(over <= 3):.0f} %",
+                }
+            )
+    return pd.DataFrame(rows).pivot(index="rule", columns="set").reindex(list(RULES))
 
 
 def reference_check(store: Store | str | Path | None = None) -> pd.DataFrame:
