@@ -104,7 +104,9 @@ def test_the_contact_force_pushes_two_crossing_parts_apart_and_conserves_momentu
     assert np.allclose(cf.force.sum(axis=0), 0.0, atol=1e-15)
     total_on_second = cf.force[30:].sum(axis=0)
     assert total_on_second[1] > 0 and abs(total_on_second[0]) < 1e-12
-    assert np.linalg.norm(total_on_second) == pytest.approx(law.stiffness * 0.2e-3 * law.ds, rel=1e-9)
+    assert np.linalg.norm(total_on_second) == pytest.approx(
+        law.stiffness * 0.2e-3 * law.ds, rel=1e-9
+    )
     assert cf.energy == pytest.approx(0.5 * law.ds * law.stiffness * (0.2e-3) ** 2, rel=1e-9)
 
 
@@ -154,7 +156,9 @@ def test_before_contact_link_equals_twist_and_the_shape_stays_consistent():
     scene = Scene(a=16.0, kappa0=10.0, t_end=0.2, n_cells=50, dt=0.01)
     res = run_contact_scene(ContactScene(scene, Contact(stiffness=200.0)), time_route=True).result()
     assert res["stopped"] == "t_end" and res["first_contact_t"] is None
-    assert res["twist_turns"] == pytest.approx((10.0 + 16.0 * res["t_last"]) / (2 * np.pi), rel=0.02)
+    assert res["twist_turns"] == pytest.approx(
+        (10.0 + 16.0 * res["t_last"]) / (2 * np.pi), rel=0.02
+    )
     assert abs(res["writhe_turns"]) < 1e-9 and res["max_link_gap_turns"] < 1e-9
     assert abs(res["energy_residual"]) < 1e-6
     assert max(res["drift"].values()) < 1e-6
@@ -180,3 +184,37 @@ def test_cli_contact_needs_an_end_time(capsys):
 
     assert main(["buckle", "--a", "16", "--contact", "--fidelity", "quick"]) != 0
     assert "--t-end" in capsys.readouterr().err
+
+
+@pytest.mark.slow
+def test_link_equals_twist_plus_writhe_through_buckling():
+    """The paper's a = 16 scene on N = 200 through the onset to t = 2.95 s, just before the
+    loop closes: the writhe grows to 0.33 turns and Lk - Tw - Wr stays below 0.01 turns
+    (0.0075 measured; it is the drift of the rebuilt shape, 0.03 rad at the far end), the
+    energy budget closes to 1e-5 of the work done at the ends.  (About a minute.)"""
+    scene = Scene(a=16.0, kappa0=10.0, t_end=2.95, n_cells=200, dt=0.01)
+    run = run_contact_scene(ContactScene(scene, Contact(stiffness=200.0)), time_route=True)
+    res = run.result()
+    assert res["stopped"] == "t_end" and res["first_contact_t"] is None
+    assert res["writhe_turns"] > 0.3
+    assert res["max_link_gap_turns"] < 0.01
+    assert abs(res["energy_residual"]) < 1e-4
+    assert res["drift"]["end_offset_over_L"] < 0.005 and res["drift"]["time_route_over_L"] < 0.005
+
+
+@pytest.mark.slow
+def test_a_passage_through_itself_ends_the_run_with_a_clear_error():
+    """The quick grid (N = 50) cannot hold the whip at the first contact (t = 3.26 s): the
+    rod passes through itself in the next 0.01 s, Lk - Tw - Wr jumps by ~2, and the run says
+    so instead of going on.  (About 35 s.)"""
+    from dyntorsion.beyond.contact.run import PassageError
+
+    scene = Scene(a=16.0, kappa0=10.0, t_end=3.4, n_cells=50, dt=0.01)
+    run = run_contact_scene(ContactScene(scene, Contact(stiffness=2000.0)))
+    res = run.result()
+    assert res["stopped"].startswith("passage"), res["stopped"]
+    assert 3.2 < res["first_contact_t"] < res["t_last"] < 3.3
+    gap = run.history["link"] - run.history["twist"] - run.history["writhe"]
+    assert abs(abs(gap[-1] - gap[-2]) - 2.0) < 0.1
+    with pytest.raises(PassageError, match="passed through itself"):
+        run.check()

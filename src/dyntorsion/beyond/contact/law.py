@@ -125,7 +125,9 @@ def _self_forces(p: LawParams, r, v, pairs, out, touching):
             i, j = j, i
         if (j - i - 1) * p.ds <= p.min_arc:
             continue
-        delta, s, t, F, pw, en = _pair(p, r[i], r[i + 1], v[i : i + 2], r[j], r[j + 1], v[j : j + 2], False)
+        delta, s, t, F, pw, en = _pair(
+            p, r[i], r[i + 1], v[i : i + 2], r[j], r[j + 1], v[j : j + 2], False
+        )
         worst = max(worst, delta)
         if delta > 0.0:
             out[i] += (1.0 - s) * F
@@ -153,7 +155,9 @@ def _fixture_forces(p: LawParams, r, v, tails, near, out, touching, count):
             gap = (n - 1 - i) * p.ds if k == 1 else i * p.ds
             if gap <= p.min_arc:
                 continue
-            delta, s, _, F, pw, en = _pair(p, r[i], r[i + 1], v[i : i + 2], tails[k, 0], tails[k, 1], still, True)
+            delta, s, _, F, pw, en = _pair(
+                p, r[i], r[i + 1], v[i : i + 2], tails[k, 0], tails[k, 1], still, True
+            )
             worst = max(worst, delta)
             if delta > 0.0:
                 out[i] += (1.0 - s) * F
@@ -170,7 +174,9 @@ def _fixture_forces(p: LawParams, r, v, tails, near, out, touching, count):
 NO_CONTACT = ContactForces(np.zeros((0, 3)), 0.0, 0, 0.0, 0.0, np.zeros((0, 2), np.int64))
 
 
-def contact_forces(p: LawParams, r: np.ndarray, v: np.ndarray, fixtures: bool = True) -> ContactForces:
+def contact_forces(
+    p: LawParams, r: np.ndarray, v: np.ndarray, fixtures: bool = True
+) -> ContactForces:
     """The law (module docstring) at one level: centreline r and inertial velocities v of
     the nodes (N+1, 3)."""
     r = np.ascontiguousarray(r, float)

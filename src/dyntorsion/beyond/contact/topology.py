@@ -46,7 +46,9 @@ def closed_polygon(r: np.ndarray, closure: float = CLOSURE) -> np.ndarray:
     """The nodes r (N+1, 3) closed by the axis tails and a far rectangle (module docstring);
     the last vertex joins the first."""
     r = np.asarray(r, dtype=float)
-    span = closure * max(float(np.linalg.norm(r[-1] - r[0])), float(np.ptp(r, axis=0).max()), 1e-300)
+    span = closure * max(
+        float(np.linalg.norm(r[-1] - r[0])), float(np.ptp(r, axis=0).max()), 1e-300
+    )
     bottom = np.array([0.0, 0.0, r[0, 2] - span])
     top = np.array([0.0, 0.0, r[-1, 2] + span])
     side = np.array([span, 0.0, 0.0])
@@ -140,6 +142,7 @@ def link_turns(lk0: float, theta_left: float, theta_right: float) -> float:
     return float(lk0 + (theta_right - theta_left) / (2.0 * math.pi))
 
 
-def passage(link: float, twist: float, writhe: float, limit: float = 1.0) -> bool:
-    """Whether Lk - Tw - Wr has jumped (by ~2 at a passage) beyond ``limit`` turns."""
-    return abs(link - twist - writhe) > limit
+def passage(gap_before: float, gap_now: float, limit: float = 1.0) -> bool:
+    """Whether Lk - Tw - Wr jumped (by ~2 at a passage) by more than ``limit`` turns between
+    two checks (a slow drift of the reconstruction is no passage)."""
+    return abs(gap_now - gap_before) > limit
