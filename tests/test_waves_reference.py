@@ -178,3 +178,15 @@ def test_a_transition_without_a_known_support_integrates_to_t():
     assert max_diff(series, w.smooth_release_dalembert(s, 0.01, precise=True, **kw)) < 1e-6
     with pytest.raises(BudgetError, match=r"no known support.*order 3.*tol=1e-07 fits"):
         w.smooth_release_exact(s, 0.01, precise=True, tol=1e-8, **kw)
+
+
+def test_eq29_meets_a_tolerance_below_the_default_at_more_digits():
+    """50 digits, tol = 1e-30 (the issue's parameters): the difference is below 1e-30."""
+    s = np.array([0.4, 1.1])
+    kw = {k: EXAMPLE[k] for k in ("kappa0", "c", "L", "rate")}
+    series = w.smooth_release_exact(s, 0.02, precise=True, digits=50, tol=1e-30, **kw)
+    closed = w.smooth_release_dalembert(s, 0.02, precise=True, digits=50, **kw)
+    with mpmath.workdps(50):
+        assert max_diff(series, closed) < 1e-30
+    low = w.smooth_release_exact(s, 0.02, precise=True, digits=12, **kw)  # default tol 1e-7
+    assert max_diff(low, closed) < 1e-7
