@@ -122,17 +122,22 @@ def test_what_cannot_be_done_is_refused_with_what_would_make_it_possible():
     assert time.perf_counter() - start < 5
     msg = str(err.value)
     assert "rate / Omega = 6.37e+05" in msg and "raise budget=" in msg
-    with pytest.raises(BudgetError, match=r"derivatives only to order 4.*tol=1e-07 fits"):
-        w.smooth_release_exact(
-            np.array([0.5]),
-            0.03,
-            kappa0=10.0,
-            c=57.74,
-            L=1.0,
-            f=w.FlatBlend(1.3),
-            precise=True,
-            tol=1e-8,
-        )
+
+
+@pytest.mark.parametrize("width", [1.3, 0.4])
+def test_flat_blend_whole_series(width):
+    """The fully flat transition (refused before at tol 1e-8: derivatives only to order 4)
+    now has exact Taylor coefficients to order 18: tol 1e-12 is met."""
+    f = w.FlatBlend(width)
+    s = np.array([0.0, 0.3, 0.9, 1.0])
+    kw = {"kappa0": 10.0, "c": 57.74, "L": 1.0, "f": f}
+    series = w.smooth_release_exact(s, 0.01, precise=True, tol=1e-12, **kw)
+    assert max_diff(series, w.smooth_release_dalembert(s, 0.01, precise=True, **kw)) < 1e-12
+    with mpmath.workdps(40):
+        x = mpmath.mpf(0.37) * width
+        exact = f.mp_taylor(x, 8)
+        numeric = mpmath.taylor(f.mp, x, 8)
+        assert max(abs(a - b) for a, b in zip(exact, numeric, strict=True)) < 1e-30
 
 
 def test_exp_quartic_taylor_coefficients_to_high_order():
