@@ -122,14 +122,76 @@ def test_what_cannot_be_done_is_refused_with_what_would_make_it_possible():
     assert time.perf_counter() - start < 5
     msg = str(err.value)
     assert "rate / Omega = 6.37e+05" in msg and "raise budget=" in msg
-    with pytest.raises(BudgetError, match=r"derivatives only to order 4.*tol=1e-07 fits"):
-        w.smooth_release_exact(
-            np.array([0.5]),
-            0.03,
-            kappa0=10.0,
-            c=57.74,
-            L=1.0,
-            f=w.FlatBlend(1.3),
-            precise=True,
-            tol=1e-8,
-        )
+
+
+@pytest.mark.parametrize("width", [1.3, 0.4])
+def test_flat_blend_whole_series(width):
+    """The fully flat transition (refused before at tol 1e-8: derivatives only to order 4)
+    now has exact Taylor coefficients to order 18: tol 1e-12 is met."""
+    f = w.FlatBlend(width)
+    s = np.array([0.0, 0.3, 0.9, 1.0])
+    kw = {"kappa0": 10.0, "c": 57.74, "L": 1.0, "f": f}
+    series = w.smooth_release_exact(s, 0.01, precise=True, tol=1e-12, **kw)
+    assert max_diff(series, w.smooth_release_dalembert(s, 0.01, precise=True, **kw)) < 1e-12
+    with mpmath.workdps(40):
+        x = mpmath.mpf(0.37) * width
+        exact = f.mp_taylor(x, 8)
+        numeric = mpmath.taylor(f.mp, x, 8)
+        assert max(abs(a - b) for a, b in zip(exact, numeric, strict=True)) < 1e-30
+
+
+def test_exp_quartic_taylor_coefficients_to_high_order():
+    """The recurrence of ExpQuartic.mp_taylor against mpmath's numerical Taylor series, and
+    the right-hand limits at 0: f^(4k)(0+) = (-1)^k (4k)! / k!."""
+    f = w.ExpQuartic()
+    with mpmath.workdps(60):
+        x = mpmath.mpf("1.37")
+        exact = f.mp_taylor(x, 16)
+        numeric = mpmath.taylor(lambda y: mpmath.exp(-(y**4)), x, 16)
+        assert max(abs(a - b) for a, b in zip(exact, numeric, strict=True)) < mpmath.mpf(10) ** -40
+        at0 = f.mp_taylor(0, 12)
+        assert [at0[k] for k in (0, 4, 8, 12)] == [1, -1, mpmath.mpf(1) / 2, -mpmath.mpf(1) / 6]
+        assert all(at0[k] == 0 for k in range(13) if k % 4)
+    fast = f.abs_derivative_integrals(2.5, 20)
+    slow = w.Transition.abs_derivative_integrals(f, 2.5, 4, points=2001)
+    # equal but for the trapezoid's end value at x = 0 (held value against the limit 0+)
+    end = np.array([0, 0, 0, 0, 1.25 * (2.5 / 2000) * 24 / 2])  # 1.25 h/2 |f^(4)(0+)|
+    np.testing.assert_allclose(fast[:5] - end, slow, rtol=1e-12)
+
+
+def test_a_transition_without_a_known_support_integrates_to_t():
+    """A CustomTransition (f to f''', no support known): the Duhamel integrals run to t and
+    the expansion stops at M = 1: tol = 1e-6 is met; 1e-8 is refused, naming the missing
+    support and derivatives and the tolerance that fits."""
+    e = mpmath.exp
+    fs = [
+        lambda x: np.exp(-(x**4)),
+        lambda x: -4 * x**3 * np.exp(-(x**4)),
+        lambda x: (16 * x**6 - 12 * x**2) * np.exp(-(x**4)),
+        lambda x: (-64 * x**9 + 144 * x**5 - 24 * x) * np.exp(-(x**4)),
+    ]
+    mps = [
+        lambda x: e(-(x**4)),
+        lambda x: -4 * x**3 * e(-(x**4)),
+        lambda x: (16 * x**6 - 12 * x**2) * e(-(x**4)),
+        lambda x: (-64 * x**9 + 144 * x**5 - 24 * x) * e(-(x**4)),
+    ]
+    custom = w.CustomTransition(fs, mps)
+    s = np.array([0.2, 0.7])
+    kw = {"kappa0": 1.0, "c": 57.74, "L": 1.0, "f": custom}
+    series = w.smooth_release_exact(s, 0.01, precise=True, tol=1e-6, **kw)
+    assert max_diff(series, w.smooth_release_dalembert(s, 0.01, precise=True, **kw)) < 1e-6
+    with pytest.raises(BudgetError, match=r"no known support.*order 3.*tol=1e-07 fits"):
+        w.smooth_release_exact(s, 0.01, precise=True, tol=1e-8, **kw)
+
+
+def test_eq29_meets_a_tolerance_below_the_default_at_more_digits():
+    """50 digits, tol = 1e-30 (the issue's parameters): the difference is below 1e-30."""
+    s = np.array([0.4, 1.1])
+    kw = {k: EXAMPLE[k] for k in ("kappa0", "c", "L", "rate")}
+    series = w.smooth_release_exact(s, 0.02, precise=True, digits=50, tol=1e-30, **kw)
+    closed = w.smooth_release_dalembert(s, 0.02, precise=True, digits=50, **kw)
+    with mpmath.workdps(50):
+        assert max_diff(series, closed) < 1e-30
+    low = w.smooth_release_exact(s, 0.02, precise=True, digits=12, **kw)  # default tol 1e-7
+    assert max_diff(low, closed) < 1e-7

@@ -358,11 +358,14 @@ def smooth_release_exact(
 
 def _smooth_release_precise(s, t, kappa0, c, L, rate, f, terms, tol, digits, budget):
     """Eq (29) in mpmath: the first N terms exactly, the rest by the expansion by parts
-    (:mod:`.reference`), to ``tol`` (default DEFAULT_TOL_PRECISE); ``terms=N`` truncates."""
+    (:mod:`.reference`), to ``tol`` (default DEFAULT_TOL_PRECISE, or 10^-(digits - 5) if
+    that is larger: no more than the precision can hold); ``terms=N`` truncates."""
     _mp_budget(0, 0.0, digits, None, "")
     if terms is not None:
         _terms(terms, None, lambda tol: 1)
-    tol = DEFAULT_TOL_PRECISE if tol is None else _positive_number("tol", tol)
+    if tol is None:
+        tol = max(DEFAULT_TOL_PRECISE, 10.0 ** -(int(digits) - 5))
+    tol = _positive_number("tol", tol)
     times = np.unique(t)
     with mpmath.workdps(digits + 10):
         plan = reference.smooth_release_plan(

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable, Sequence
 
@@ -227,13 +228,42 @@ class FlatBlend(Transition):
         """f = 0 exactly from x = width on."""
         return self.width
 
+    #: :meth:`mp_taylor` serves this order (its recurrences cost order^2 a point)
+    taylor_order = 18
+
     def mp_taylor(self, x, order: int) -> list:
-        """As :meth:`Transition.mp_taylor`; every derivative is 0 at x = 0 and from x = width on."""
+        """As :meth:`Transition.mp_taylor`, exactly: with q = -|p| (p = p(u), u = x / width) the
+        Taylor series of E = e^q obeys (k+1) e_(k+1) = sum_i i q_i e_(k+1-i) (q_i = 1/(1-u)^(i+1)
+        - (-1)^i / u^(i+1) up to sign), and f = 1/(1 + E) (p <= 0) or 1 - 1/(1 + E) (p > 0)
+        is a series reciprocal.  Every derivative is 0 at x = 0 and from x = width on."""
         head = super().mp_taylor(mpmath.mpf(-1), order)  # validates order
         x = mpmath.mpf(x)
         if x <= 0 or x >= self.width:
             return [mpmath.mpf(1 if x <= 0 else 0)] + head[1:]
-        return super().mp_taylor(x, order)
+        u = x / self.width
+        p0 = 1 / (1 - u) - 1 / u
+        sign = -1 if p0 > 0 else 1
+        q = [sign * (1 / (1 - u) ** (i + 1) - (-1) ** i / u ** (i + 1)) for i in range(order + 1)]
+        e = [mpmath.exp(q[0])]
+        for k in range(order):
+            e.append(sum(i * q[i] * e[k + 1 - i] for i in range(1, k + 2)) / (k + 1))
+        d0 = 1 + e[0]
+        r = [1 / d0]
+        for k in range(1, order + 1):
+            r.append(-sum(e[i] * r[k - i] for i in range(1, k + 1)) / d0)
+        a = r if sign > 0 else [1 - r[0]] + [-v for v in r[1:]]
+        return [v / mpmath.mpf(self.width) ** k for k, v in enumerate(a)]
+
+    @functools.lru_cache(maxsize=32)  # noqa: B019 - a few (x_end, order) per reference
+    def abs_derivative_integrals(self, x_end: float, order: int, points: int = 401) -> np.ndarray:
+        """As :meth:`Transition.abs_derivative_integrals`, from :meth:`mp_taylor` (any order
+        up to ``taylor_order``) at 30 digits; beyond x = width every derivative is 0.  (The
+        peaks of |f^(k)| near the ends are ~ (8 k^3)^(-1/2) wide in u: 1.8 nodes at k = 18.)"""
+        xs = np.linspace(0.0, min(x_end, self.width), points)
+        with mpmath.workdps(30):
+            vals = np.array([[float(abs(v)) for v in self.mp_taylor(x, order)] for x in xs])
+        vals *= np.array([float(math.factorial(k)) for k in range(order + 1)])
+        return 1.25 * np.trapezoid(vals, xs, axis=0)
 
     def _positive_mp(self, x, k):
         u = x / self.width
