@@ -338,7 +338,7 @@ PLANTED = (
     ("number", "0.000"),
     ("number", "1.4e-16"),
     ("apidoc", "Convert a string or number"),
-    ("footer", "no \"version"),
+    ("footer", 'no "version'),
     ("small-text", "wide.png"),
 )
 OK_SVG = '<svg xmlns="http://www.w3.org/2000/svg" width="10" height="10"></svg>'
@@ -355,8 +355,11 @@ def _png(width: int, height: int) -> bytes:
 
     rows = b"".join(b"\0" + b"\x80" * width for _ in range(height))
     head = struct.pack(">IIBBBBB", width, height, 8, 0, 0, 0, 0)
-    return b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", head) + chunk(b"IDAT", zlib.compress(rows)) + (
-        chunk(b"IEND", b"")
+    return (
+        b"\x89PNG\r\n\x1a\n"
+        + chunk(b"IHDR", head)
+        + chunk(b"IDAT", zlib.compress(rows))
+        + (chunk(b"IEND", b""))
     )
 
 

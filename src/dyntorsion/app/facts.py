@@ -77,7 +77,10 @@ def facts() -> dict[str, str]:
     }
     for seed, preset in (("stated", "fig08-09"), ("tiny", "fig08-09-tiny-seed")):
         rows = cached(preset).set_index("rho")
-        for fig, rho, paper in (("fig8", 1500.0, pub["fig8_tc"]), ("fig9", 5000.0, pub["law_fig9"])):
+        for fig, rho, paper in (
+            ("fig8", 1500.0, pub["fig8_tc"]),
+            ("fig9", 5000.0, pub["law_fig9"]),
+        ):
             r = rows.loc[rho]
             key = f"{fig}_{seed}"
             out[f"{key}_tc"] = fixed(r["t_c"])

@@ -194,8 +194,10 @@ def _drawn(artist, ax, renderer) -> bool:
             return False
         if box.count_contains(xy) > 0:
             return True
-        return len(xy) > 1 and artist.get_linestyle() not in ("None", " ", "") and (
-            MplPath(xy).intersects_bbox(box, filled=False)
+        return (
+            len(xy) > 1
+            and artist.get_linestyle() not in ("None", " ", "")
+            and (MplPath(xy).intersects_bbox(box, filled=False))
         )
     if isinstance(artist, PathCollection):  # scatter: its points, in display units
         xy = artist.get_offset_transform().transform(np.asarray(artist.get_offsets(), float))
