@@ -110,6 +110,20 @@ def test_the_contact_force_pushes_two_crossing_parts_apart_and_conserves_momentu
     assert cf.energy == pytest.approx(0.5 * law.ds * law.stiffness * (0.2e-3) ** 2, rel=1e-9)
 
 
+def test_contact_sites_group_neighbouring_pairs_and_the_lag_cost_follows_the_approach():
+    from dyntorsion import Rod
+    from dyntorsion.beyond.contact.law import contact_sites, lag_cost
+
+    assert contact_sites(np.zeros((0, 2), np.int64)) == 0
+    assert contact_sites(np.array([[3, 30], [4, 30], [4, 31], [10, 40], [3, -1]])) == 3
+    rod = Rod()
+    cost = lag_cost(rod, 0.5, 1.0)
+    omega = 1.0 / (0.01 * rod.thickness)
+    assert cost["dt_for_1pct_penetration"] == pytest.approx(0.5 / omega)
+    assert cost["stiffness_for_1pct_penetration"] == pytest.approx(rod.mass_per_length * omega**2)
+    assert lag_cost(rod, 0.5, 0.0)["dt_for_1pct_penetration"] is None
+
+
 def test_near_neighbours_along_the_rod_never_touch_and_fixtures_hold_the_axis():
     s = np.linspace(0.0, 1.0, 51)
     r = np.c_[np.zeros(51), np.zeros(51), s]
@@ -218,3 +232,6 @@ def test_a_passage_through_itself_ends_the_run_with_a_clear_error():
     assert abs(abs(gap[-1] - gap[-2]) - 2.0) < 0.1
     with pytest.raises(PassageError, match="passed through itself"):
         run.check()
+    # what the lag costs: the loop closes at ~1 m/s (1.05 measured), which a lagged penalty
+    # holds to 1 % of D only with omega_c >= 1e5 rad/s, i.e. dt <= 5e-6 s
+    assert res["max_approach_speed"] > 0.5 and res["dt_for_1pct_penetration"] < 1e-5

@@ -45,7 +45,14 @@ from scipy.spatial import cKDTree
 
 from ..._numba import jit
 
-__all__ = ["LawParams", "ContactForces", "NO_CONTACT", "contact_forces"]
+__all__ = [
+    "LawParams",
+    "ContactForces",
+    "NO_CONTACT",
+    "contact_forces",
+    "contact_sites",
+    "lag_cost",
+]
 
 
 class LawParams(NamedTuple):
@@ -60,8 +67,8 @@ class LawParams(NamedTuple):
 
 class ContactForces(NamedTuple):
     """Nodal forces (N+1, 3) in inertial components [N], and per level: the largest overlap
-    [m], the number of touching segment pairs, the stored energy [J] and the power of the
-    dashpots [W] (<= 0)."""
+    [m], the number of touching segment pairs, the stored energy [J], the power of the
+    dashpots [W] (<= 0), the touching pairs and the fastest approach among them [m/s]."""
 
     force: np.ndarray
     max_overlap: float
@@ -69,6 +76,7 @@ class ContactForces(NamedTuple):
     energy: float
     dissipation: float
     touching: np.ndarray  # (pairs, 2) segment indices (obstacle segments: -1, -2)
+    approach: float = 0.0  # the fastest approach of touching parts, -v_n [m/s]
 
 
 @jit
@@ -99,33 +107,33 @@ def _share(s):
 
 @jit
 def _pair(p: LawParams, a0, a1, va, b0, b1, vb, obstacle):
-    """(overlap, s, t, force on segment a, dashpot power, energy) of one pair; overlap <= 0:
-    no contact.  ``obstacle``: b is a fixed piece (no neighbour shares its ends)."""
+    """(overlap, s, t, force on segment a, dashpot power, energy, approach speed) of one
+    pair; overlap <= 0: no contact.  ``obstacle``: b is a fixed piece (no neighbour shares its ends)."""
     s, t, dv = _closest(a0, a1, b0, b1)
     d = math.sqrt(dv @ dv)
     delta = p.diameter - d
     if delta <= 0.0 or d == 0.0:
-        return delta, s, t, np.zeros(3), 0.0, 0.0
+        return delta, s, t, np.zeros(3), 0.0, 0.0, 0.0
     n = dv / d
     vrel = (1.0 - s) * va[0] + s * va[1] - (1.0 - t) * vb[0] - t * vb[1]
     vn = vrel @ n
     w = p.ds * _share(s) * (1.0 if obstacle else _share(t))
     mag = max(0.0, p.stiffness * delta - p.damping * vn)
     dash = -p.damping * vn if mag > 0.0 else 0.0
-    return delta, s, t, w * mag * n, w * dash * vn, 0.5 * w * p.stiffness * delta * delta
+    return delta, s, t, w * mag * n, w * dash * vn, 0.5 * w * p.stiffness * delta * delta, -vn
 
 
 @jit
 def _self_forces(p: LawParams, r, v, pairs, out, touching):
     """Forces of the candidate segment pairs (i < j) on the nodes; the stats of the level."""
-    worst, count, energy, power = 0.0, 0, 0.0, 0.0
+    worst, count, energy, power, speed = 0.0, 0, 0.0, 0.0, 0.0
     for m in range(pairs.shape[0]):
         i, j = pairs[m, 0], pairs[m, 1]
         if i > j:
             i, j = j, i
         if (j - i - 1) * p.ds <= p.min_arc:
             continue
-        delta, s, t, F, pw, en = _pair(
+        delta, s, t, F, pw, en, vn = _pair(
             p, r[i], r[i + 1], v[i : i + 2], r[j], r[j + 1], v[j : j + 2], False
         )
         worst = max(worst, delta)
@@ -138,7 +146,8 @@ def _self_forces(p: LawParams, r, v, pairs, out, touching):
             count += 1
             energy += en
             power += pw
-    return worst, count, energy, power
+            speed = max(speed, vn)
+    return worst, count, energy, power, speed
 
 
 @jit
@@ -146,7 +155,7 @@ def _fixture_forces(p: LawParams, r, v, tails, near, out, touching, count):
     """Forces of the two fixed axis pieces ``tails`` (2, 2, 3) on the rod's segments
     ``near`` them (``near[k, i]``) more than ``min_arc`` from the end each continues."""
     n = r.shape[0] - 1
-    worst, energy, power = 0.0, 0.0, 0.0
+    worst, energy, power, speed = 0.0, 0.0, 0.0, 0.0
     still = np.zeros((2, 3))
     for k in range(2):
         for i in range(n):
@@ -155,7 +164,7 @@ def _fixture_forces(p: LawParams, r, v, tails, near, out, touching, count):
             gap = (n - 1 - i) * p.ds if k == 1 else i * p.ds
             if gap <= p.min_arc:
                 continue
-            delta, s, _, F, pw, en = _pair(
+            delta, s, _, F, pw, en, vn = _pair(
                 p, r[i], r[i + 1], v[i : i + 2], tails[k, 0], tails[k, 1], still, True
             )
             worst = max(worst, delta)
@@ -167,7 +176,8 @@ def _fixture_forces(p: LawParams, r, v, tails, near, out, touching, count):
                 count += 1
                 energy += en
                 power += pw
-    return worst, count, energy, power
+                speed = max(speed, vn)
+    return worst, count, energy, power, speed
 
 
 #: the law's outcome where no two parts can touch (a nearly straight rod)
@@ -185,7 +195,7 @@ def contact_forces(
     pairs = cKDTree(mid).query_pairs(p.ds + p.diameter, output_type="ndarray").astype(np.int64)
     out = np.zeros_like(r)
     touching = np.zeros((pairs.shape[0] + 2 * r.shape[0], 2), np.int64)
-    worst, count, energy, power = _self_forces(p, r, v, pairs, out, touching)
+    worst, count, energy, power, speed = _self_forces(p, r, v, pairs, out, touching)
     if fixtures:
         L = p.ds * (r.shape[0] - 1)
         e3 = np.array([0.0, 0.0, 1.0])
@@ -193,6 +203,40 @@ def contact_forces(
         low = np.minimum(r[1:, 2], r[:-1, 2])
         high = np.maximum(r[1:, 2], r[:-1, 2])
         near = np.array([low < r[0, 2] + p.diameter, high > r[-1, 2] - p.diameter])
-        w2, count, e2, p2 = _fixture_forces(p, r, v, tails, near, out, touching, count)
-        worst, energy, power = max(worst, w2), energy + e2, power + p2
-    return ContactForces(out, max(worst, 0.0), int(count), energy, power, touching[:count].copy())
+        w2, count, e2, p2, s2 = _fixture_forces(p, r, v, tails, near, out, touching, count)
+        worst, energy, power, speed = max(worst, w2), energy + e2, power + p2, max(speed, s2)
+    return ContactForces(
+        out, max(worst, 0.0), int(count), energy, power, touching[:count].copy(), speed
+    )
+
+
+def contact_sites(touching: np.ndarray) -> int:
+    """Contact sites: touching segment pairs (i, j) grouped when both indices are within 2 of
+    a pair already in the group (one site spans a few segments)."""
+    if touching.shape[0] == 0:
+        return 0
+    pairs = sorted(map(tuple, touching.tolist()))
+    groups: list[list[tuple[int, int]]] = []
+    for i, j in pairs:
+        for g in groups:
+            if any(abs(i - a) <= 2 and abs(j - b) <= 2 for a, b in g):
+                g.append((i, j))
+                break
+        else:
+            groups.append([(i, j)])
+    return len(groups)
+
+
+def lag_cost(rod, stability: float, approach: float) -> dict[str, float | None]:
+    """What the lagged penalty costs: the fastest approach of touching parts v [m/s] met
+    in a run, the stiffness that holds it to 1 % of D (omega_c >= v / 0.01 D: an undamped
+    spring taking the approach's kinetic energy) and the step that stiffness allows lagged
+    (omega_c dt <= ``stability``)."""
+    if approach <= 0.0:
+        return {"max_approach_speed": None, "dt_for_1pct_penetration": None}
+    omega = approach / (0.01 * rod.thickness)
+    return {
+        "max_approach_speed": approach,
+        "stiffness_for_1pct_penetration": rod.mass_per_length * omega**2,
+        "dt_for_1pct_penetration": stability / omega,
+    }

@@ -44,7 +44,7 @@ from ...genalpha.guard import real
 from ...model.cosserat import Cosserat
 from .centreline import Reconstruction
 from .damped import damped_system
-from .law import NO_CONTACT, LawParams, contact_forces
+from .law import NO_CONTACT, LawParams, contact_forces, contact_sites, lag_cost
 from .topology import closed_polygon, link_turns, passage, twist_turns, writhe_turns
 
 __all__ = ["Contact", "ContactScene", "ContactRun", "PassageError", "run_contact_scene"]
@@ -185,6 +185,7 @@ class _Between:
         self.theta = [0.0, 0.0]
         self.y_old = np.array(y0, float)
         self.first_contact_t, self.max_overlap, self.max_sites, self.sites = None, 0.0, 0, 0
+        self.approach = 0.0
         self.e0 = self._energy(y0)
         self.work = {"ends": 0.0, "seed": 0.0, "contact": 0.0, "viscous": 0.0}
         self.power_old = self._powers(y0, np.zeros((n1, 12)))
@@ -252,7 +253,8 @@ class _Between:
         self.y_old = y.copy()
         overlap = cf.max_overlap / self.rod.thickness
         self.max_overlap = max(self.max_overlap, overlap)
-        self.sites = _sites(cf.touching)
+        self.approach = max(self.approach, cf.approach)
+        self.sites = contact_sites(cf.touching)
         self.max_sites = max(self.max_sites, self.sites)
         if cf.pairs and self.first_contact_t is None:
             self.first_contact_t = float(t)
@@ -292,23 +294,6 @@ class _Between:
             )
         else:  # the drift of the reconstruction, where no passage intervened
             self.worst_gap = max(self.worst_gap, abs(gap))
-
-
-def _sites(touching: np.ndarray) -> int:
-    """Contact sites: touching segment pairs (i, j) grouped when both indices are within 2 of
-    a pair already in the group (one site spans a few segments)."""
-    if touching.shape[0] == 0:
-        return 0
-    pairs = sorted(map(tuple, touching.tolist()))
-    groups: list[list[tuple[int, int]]] = []
-    for i, j in pairs:
-        for g in groups:
-            if any(abs(i - a) <= 2 and abs(j - b) <= 2 for a, b in g):
-                g.append((i, j))
-                break
-        else:
-            groups.append([(i, j)])
-    return len(groups)
 
 
 def run_contact_scene(
@@ -376,6 +361,7 @@ def run_contact_scene(
         "twist_turns": float(h["twist"][-1]),
         "writhe_turns": float(h["writhe"][-1]),
         "max_link_gap_turns": between.worst_gap,
+        **lag_cost(cs.scene.rod, cs.contact.stability, between.approach),
         "energy": {
             "work_ends": work["ends"],
             "work_seed": work["seed"],
