@@ -4,16 +4,12 @@
 from __future__ import annotations
 
 import argparse
-import json
-import math
-from typing import Any
-
-import numpy as np
 
 from ..beyond.contact.run import Contact, ContactScene, run_contact_scene
 from ..buckling.scene import Scene
+from .cli_rtol import result_json
 
-__all__ = ["add_contact_options", "buckle_contact", "print_json"]
+__all__ = ["add_contact_options", "buckle_contact"]
 
 
 def add_contact_options(b: argparse.ArgumentParser) -> None:
@@ -35,23 +31,6 @@ def add_contact_options(b: argparse.ArgumentParser) -> None:
     b.add_argument("--json", action="store_true", help="print the result as one JSON object")
 
 
-def _clean(value: Any) -> Any:
-    """JSON-ready: numpy scalars as numbers, NaN and inf as null."""
-    if isinstance(value, dict):
-        return {str(k): _clean(v) for k, v in value.items()}
-    if isinstance(value, list | tuple):
-        return [_clean(v) for v in value]
-    if isinstance(value, np.generic):
-        value = value.item()
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
-    return value
-
-
-def print_json(row: dict[str, Any]) -> None:
-    print(json.dumps(_clean(row), sort_keys=True))
-
-
 def buckle_contact(args: argparse.Namespace, scene: Scene) -> int:
     """Run ``scene`` past contact; print the result (JSON with ``--json``); exit status 1
     when the run did not reach its end (a passage or a Newton failure)."""
@@ -62,7 +41,7 @@ def buckle_contact(args: argparse.Namespace, scene: Scene) -> int:
     )
     result = run_contact_scene(ContactScene(scene, contact)).result()
     if args.json:
-        print_json(result)
+        print(result_json(result))
     else:
         for key in ("scene", "stopped", "dt_run", "first_contact_t", "max_penetration_over_D",
                     "contact_sites", "link_turns", "twist_turns", "writhe_turns",
