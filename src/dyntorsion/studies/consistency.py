@@ -14,7 +14,10 @@ nothing.  Three sets, each a named preset (``python -m dyntorsion.studies.consis
 * ``direct``: the Fig 8 and Fig 9 scenes (kappa0 = 0, a = 1.6, rho = 1500 and 5000)
   with every seed of the map at the standard grid :data:`CONFIRM_GRID`;
 * ``confirm``: the ladder at the standard grid for the seeds :data:`CONFIRM_SEEDS`,
-  the best cells of the map (a test checks they still are).
+  the best cells of the map (a test checks they still are);
+* ``initial``: the ladder at the map grid for the seed :data:`INITIAL_SEED` with the rod
+  started unstressed (:mod:`dyntorsion.studies.initial_state`: a step or a short smooth
+  ramp to kappa0 at the end) instead of pretwisted (the map's start).
 """
 
 from __future__ import annotations
@@ -33,6 +36,7 @@ from ..buckling.seed import Perturbation
 from ..model.rod import Rod
 from ..store.results import Store
 from ..store.workers import cached_map
+from .initial_state import STARTS, history
 from .presets import PRESET_CONTROL
 
 __all__ = [
@@ -41,6 +45,7 @@ __all__ = [
     "MAP_GRID",
     "CONFIRM_GRID",
     "CONFIRM_SEEDS",
+    "INITIAL_SEED",
     "PRESETS",
     "grid_dt",
     "scenes",
@@ -62,6 +67,8 @@ CONFIRM_GRID: tuple[int, float, float] = (100, 0.005, 0.05)
 #: the seeds confirmed at the standard grid: the two map seeds around the closest cell's
 #: seed (:func:`dyntorsion.studies.claims.closest`: 1.1e-16 N/m uniform; a test checks it)
 CONFIRM_SEEDS: tuple[Perturbation, ...] = (Perturbation(1e-16), Perturbation(1e-14))
+#: the seed of the initial-state ladders: the map seed nearest the seeds of claim 1
+INITIAL_SEED = Perturbation(1e-16)
 
 
 def grid_dt(a: float, grid: tuple[int, float, float]) -> float:
@@ -89,6 +96,12 @@ def _ladder(seeds, grid) -> list[Scene]:
     return [_scene(a, 10.0, p, grid) for p in seeds for a in LADDER]
 
 
+def _started(start: str, a: float, grid) -> Scene:
+    """The map's scene at rate ``a`` with the rod started as ``start`` (the same t_end)."""
+    sc = _scene(a, 10.0, INITIAL_SEED, grid)
+    return replace(sc, a=None, kappa0=None, history=history(start, a, 10.0), t_end=sc.duration())
+
+
 def _direct() -> list[Scene]:
     return [_scene(1.6, 0.0, p, CONFIRM_GRID, rho) for p in MAP_SEEDS for rho in (1500.0, 5000.0)]
 
@@ -98,6 +111,7 @@ PRESETS: dict[str, Callable[[], list[Scene]]] = {
     "map": lambda: _ladder(MAP_SEEDS, MAP_GRID),
     "direct": _direct,
     "confirm": lambda: _ladder(CONFIRM_SEEDS, CONFIRM_GRID),
+    "initial": lambda: [_started(s, a, MAP_GRID) for s in STARTS[1:] for a in LADDER],
 }
 
 
@@ -110,9 +124,11 @@ def scenes(name: str) -> list[Scene]:
 
 def _rows(scene: Scene, record: dict[str, Any]) -> list[dict[str, Any]]:
     res = record["result"]
+    ramp = dict(scene.history.parameters) if scene.history is not None else {}
     base = {
-        "a": scene.a,
-        "kappa0": scene.kappa0,
+        "start": STARTS[0] if scene.history is None else scene.history.name.split()[0],
+        "a": ramp.get("a", scene.a),
+        "kappa0": ramp.get("kappa0", scene.kappa0),
         "rho": scene.rod.rho,
         "seed": scene.seed.magnitude,
         "form": scene.seed.form,
@@ -140,8 +156,9 @@ def table(
     jobs: int = 1,
     progress: bool | None = False,
 ) -> pd.DataFrame:
-    """One row per scene of the named set and onset rule (columns ``a, kappa0, rho, seed,
-    form, n_cells, dt, status, rule, t_c, kappa3``), read from ``store``; with
+    """One row per scene of the named set and onset rule (columns ``start, a, kappa0, rho,
+    seed, form, n_cells, dt, status, rule, t_c, kappa3``; ``start`` the initial state's
+    first word: pretwisted, step, smooth), read from ``store``; with
     ``compute=True`` missing or stale scenes are simulated on ``jobs`` processes."""
     scs = scenes(name)
     records = cached_map(
