@@ -16,8 +16,10 @@ nothing.  Three sets, each a named preset (``python -m dyntorsion.studies.consis
 * ``confirm``: the ladder at the standard grid for the seeds :data:`CONFIRM_SEEDS`,
   the best cells of the map (a test checks they still are);
 * ``initial``: the ladder at the map grid for the seed :data:`INITIAL_SEED` with the rod
-  started unstressed (:mod:`dyntorsion.studies.initial_state`: a step or a short smooth
-  ramp to kappa0 at the end) instead of pretwisted (the map's start).
+  started unstressed and the end twist brought to kappa0 by a short smooth ramp
+  (:mod:`dyntorsion.studies.initial_state`) instead of pretwisted (the map's start);
+* ``initial-grid``: every start (with the step, section 6 read literally) at a = 1 on
+  the grids :data:`INITIAL_GRIDS`: whether the grid resolves the start.
 """
 
 from __future__ import annotations
@@ -46,6 +48,7 @@ __all__ = [
     "CONFIRM_GRID",
     "CONFIRM_SEEDS",
     "INITIAL_SEED",
+    "INITIAL_GRIDS",
     "PRESETS",
     "grid_dt",
     "scenes",
@@ -69,6 +72,8 @@ CONFIRM_GRID: tuple[int, float, float] = (100, 0.005, 0.05)
 CONFIRM_SEEDS: tuple[Perturbation, ...] = (Perturbation(1e-16), Perturbation(1e-14))
 #: the seed of the initial-state ladders: the map seed nearest the seeds of claim 1
 INITIAL_SEED = Perturbation(1e-16)
+#: the grids of the initial-state check: the map's, the standard, and one finer
+INITIAL_GRIDS: tuple[tuple[int, float, float], ...] = (MAP_GRID, CONFIRM_GRID, (200, 0.0025, 0.025))
 
 
 def grid_dt(a: float, grid: tuple[int, float, float]) -> float:
@@ -99,6 +104,8 @@ def _ladder(seeds, grid) -> list[Scene]:
 def _started(start: str, a: float, grid) -> Scene:
     """The map's scene at rate ``a`` with the rod started as ``start`` (the same t_end)."""
     sc = _scene(a, 10.0, INITIAL_SEED, grid)
+    if start == STARTS[0]:
+        return sc
     return replace(sc, a=None, kappa0=None, history=history(start, a, 10.0), t_end=sc.duration())
 
 
@@ -111,7 +118,8 @@ PRESETS: dict[str, Callable[[], list[Scene]]] = {
     "map": lambda: _ladder(MAP_SEEDS, MAP_GRID),
     "direct": _direct,
     "confirm": lambda: _ladder(CONFIRM_SEEDS, CONFIRM_GRID),
-    "initial": lambda: [_started(s, a, MAP_GRID) for s in STARTS[1:] for a in LADDER],
+    "initial": lambda: [_started("smooth ramp", a, MAP_GRID) for a in LADDER],
+    "initial-grid": lambda: [_started(s, 1.0, g) for g in INITIAL_GRIDS for s in STARTS],
 }
 
 
