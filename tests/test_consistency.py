@@ -209,27 +209,3 @@ def test_the_verdict_pin_of_our_output(scanned, num_regression):
         },
         default_tolerance={"rtol": 1e-6, "atol": 1e-12},
     )
-
-
-def test_the_initial_state_ladders(maps):
-    """Issue 35, item 6: the rod started unstressed and brought to kappa0 by a smooth ramp
-    buckles within the map's grid error (5 % of the delay) of the pretwisted rod at every
-    rate and rule; the step start (section 6 read literally) is not resolved: its onset
-    twist at a = 1 moves by more than 10 % of the delay from N = 50 to N = 200, where the
-    pretwisted rod's moves by less than 1 %."""
-    smooth = K.table("initial")
-    assert len(smooth) == len(K.scenes("initial")) * len(RULES)
-    assert set(smooth.start) == {"smooth"} and (smooth.status == "buckled").all()
-    pre = maps[(maps.seed == K.INITIAL_SEED.magnitude) & (maps.form == "uniform")]
-    both = pre.merge(smooth, on=["rule", "a"], suffixes=("_pre", "_smooth"))
-    assert len(both) == len(smooth)
-    rel = (both.kappa3_smooth - both.kappa3_pre).abs() / (both.kappa3_pre - KC)
-    assert rel.max() < 0.05
-    grid = K.table("initial-grid")
-    k = grid[grid.rule == "window 10-50 %"].pivot_table(
-        index="start", columns="n_cells", values="kappa3"
-    )
-    lo, hi = min(k.columns), max(k.columns)
-    delay = k.loc["pretwisted", hi] - KC
-    assert abs(k.loc["step", lo] - k.loc["step", hi]) > 0.1 * delay
-    assert abs(k.loc["pretwisted", lo] - k.loc["pretwisted", hi]) < 0.01 * delay

@@ -14,12 +14,7 @@ nothing.  Three sets, each a named preset (``python -m dyntorsion.studies.consis
 * ``direct``: the Fig 8 and Fig 9 scenes (kappa0 = 0, a = 1.6, rho = 1500 and 5000)
   with every seed of the map at the standard grid :data:`CONFIRM_GRID`;
 * ``confirm``: the ladder at the standard grid for the seeds :data:`CONFIRM_SEEDS`,
-  the best cells of the map (a test checks they still are);
-* ``initial``: the ladder at the map grid for the seed :data:`INITIAL_SEED` with the rod
-  started unstressed and the end twist brought to kappa0 by a short smooth ramp
-  (:mod:`dyntorsion.studies.initial_state`) instead of pretwisted (the map's start);
-* ``initial-grid``: every start (with the step, section 6 read literally) at a = 1 on
-  the grids :data:`INITIAL_GRIDS`: whether the grid resolves the start.
+  the best cells of the map (a test checks they still are).
 """
 
 from __future__ import annotations
@@ -38,7 +33,6 @@ from ..buckling.seed import Perturbation
 from ..model.rod import Rod
 from ..store.results import Store
 from ..store.workers import cached_map
-from .initial_state import STARTS, history
 from .presets import PRESET_CONTROL
 
 __all__ = [
@@ -47,8 +41,6 @@ __all__ = [
     "MAP_GRID",
     "CONFIRM_GRID",
     "CONFIRM_SEEDS",
-    "INITIAL_SEED",
-    "INITIAL_GRIDS",
     "PRESETS",
     "grid_dt",
     "scenes",
@@ -70,10 +62,6 @@ CONFIRM_GRID: tuple[int, float, float] = (100, 0.005, 0.05)
 #: the seeds confirmed at the standard grid: the two map seeds around the closest cell's
 #: seed (:func:`dyntorsion.studies.claims.closest`: 1.1e-16 N/m uniform; a test checks it)
 CONFIRM_SEEDS: tuple[Perturbation, ...] = (Perturbation(1e-16), Perturbation(1e-14))
-#: the seed of the initial-state ladders: the map seed nearest the seeds of claim 1
-INITIAL_SEED = Perturbation(1e-16)
-#: the grids of the initial-state check: the map's, the standard, and one finer
-INITIAL_GRIDS: tuple[tuple[int, float, float], ...] = (MAP_GRID, CONFIRM_GRID, (200, 0.0025, 0.025))
 
 
 def grid_dt(a: float, grid: tuple[int, float, float]) -> float:
@@ -101,14 +89,6 @@ def _ladder(seeds, grid) -> list[Scene]:
     return [_scene(a, 10.0, p, grid) for p in seeds for a in LADDER]
 
 
-def _started(start: str, a: float, grid) -> Scene:
-    """The map's scene at rate ``a`` with the rod started as ``start`` (the same t_end)."""
-    sc = _scene(a, 10.0, INITIAL_SEED, grid)
-    if start == STARTS[0]:
-        return sc
-    return replace(sc, a=None, kappa0=None, history=history(start, a, 10.0), t_end=sc.duration())
-
-
 def _direct() -> list[Scene]:
     return [_scene(1.6, 0.0, p, CONFIRM_GRID, rho) for p in MAP_SEEDS for rho in (1500.0, 5000.0)]
 
@@ -118,8 +98,6 @@ PRESETS: dict[str, Callable[[], list[Scene]]] = {
     "map": lambda: _ladder(MAP_SEEDS, MAP_GRID),
     "direct": _direct,
     "confirm": lambda: _ladder(CONFIRM_SEEDS, CONFIRM_GRID),
-    "initial": lambda: [_started("smooth ramp", a, MAP_GRID) for a in LADDER],
-    "initial-grid": lambda: [_started(s, 1.0, g) for g in INITIAL_GRIDS for s in STARTS],
 }
 
 
@@ -132,11 +110,9 @@ def scenes(name: str) -> list[Scene]:
 
 def _rows(scene: Scene, record: dict[str, Any]) -> list[dict[str, Any]]:
     res = record["result"]
-    ramp = dict(scene.history.parameters) if scene.history is not None else {}
     base = {
-        "start": STARTS[0] if scene.history is None else scene.history.name.split()[0],
-        "a": ramp.get("a", scene.a),
-        "kappa0": ramp.get("kappa0", scene.kappa0),
+        "a": scene.a,
+        "kappa0": scene.kappa0,
         "rho": scene.rod.rho,
         "seed": scene.seed.magnitude,
         "form": scene.seed.form,
@@ -164,9 +140,8 @@ def table(
     jobs: int = 1,
     progress: bool | None = False,
 ) -> pd.DataFrame:
-    """One row per scene of the named set and onset rule (columns ``start, a, kappa0, rho,
-    seed, form, n_cells, dt, status, rule, t_c, kappa3``; ``start`` the initial state's
-    first word: pretwisted, step, smooth), read from ``store``; with
+    """One row per scene of the named set and onset rule (columns ``a, kappa0, rho, seed,
+    form, n_cells, dt, status, rule, t_c, kappa3``), read from ``store``; with
     ``compute=True`` missing or stale scenes are simulated on ``jobs`` processes."""
     scs = scenes(name)
     records = cached_map(
