@@ -21,15 +21,15 @@ without the whip) with the scene's own Newton options.
 The error of the value v_K on the finest rung run so far is estimated from the last
 two differences d_k = v_k - v_{k-1} of the sequence (three rungs):
 
-    e_K = max(|d_K|, |d_{K-1}|).
+    e_K = max(abs(d_K), abs(d_{K-1})).
 
 A scheme of order p >= 1 whose error e_k = C h_k^p shrinks by 2^p per rung has
-e_K = |d_K| / (2^p - 1) <= |d_K|: the first term covers it.  The onset, however, is read
+e_K = abs(d_K) / (2^p - 1) <= abs(d_K): the first term covers it.  The onset, however, is read
 off a line fit to a sampled trace, and its convergence is irregular ("Accuracy and
 cost" page): two neighbouring rungs may agree by coincidence, or the error may even
 grow from one rung to the next, so the second term keeps the estimate from trusting
 one small difference.  The price is paid where the convergence is clean: for an exact
-second-order sequence the estimate is 12 times the error (|d_{K-1}| = 4 |d_K| = 12 e_K).
+second-order sequence the estimate is 12 times the error (abs(d_{K-1}) = 4 abs(d_K) = 12 e_K).
 Rules that trust the last difference when the sequence looks regular fail on measured
 sequences (the Fig 10 scene at a = 1.09 with the 1e-17 N/m seed: 18.2875, 18.3589,
 18.3622, 18.3551 s on N = 25..200, against 18.3556 s on N = 400).
