@@ -23,6 +23,9 @@ extensions = [
     "sphinx.ext.viewcode",  # each API entry links to its source, highlighted, on the site
     "offline_mathjax",  # sphinx-mathjax-offline, parallel-safe (docs/_ext)
 ]
+# a name a module imports is linked from its own module's source only (followed into the
+# importing module, viewcode linked e.g. linear_stability.Tensors to an anchor no page has)
+viewcode_follow_imported_members = False
 myst_enable_extensions = ["dollarmath", "amsmath"]
 # notebooks always run: the jupyter cache would not see changes to src/
 nb_execution_mode = "force"

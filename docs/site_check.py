@@ -46,7 +46,7 @@ VIEWPORT = {"width": 1280, "height": 900}
 #: constant without a ``#:`` comment
 BUILTIN_DOCS = sorted(
     {
-        t.__doc__.strip().splitlines()[-1 if t is int else 0].strip()
+        t.__doc__.strip().splitlines()[0].strip()
         for t in (float, int, str, tuple, list, dict, set, frozenset, bool, complex, bytes)
     }
     | {"Built-in immutable sequence.", "Convert a string or number to a floating point number"}
@@ -129,13 +129,19 @@ PROBE = r"""
       out.push(['table', '"-0" in a table: ' + text(tb).trim().slice(0, 50)]);
   }
   // unformatted numbers: trailing zeros ("0.200000", "12.800000") or a zero as "0.000"
-  const unformatted = /(?:^|[^\w.])(\d+\.\d*000)(?![\d.])|(?:^|[^\w.])([-\u2212]?0\.00+)(?![\d.])|(?:^|[^\w.])(\d+(?:\.\d+)?e[-+]?\d+)(?![\w.])/g;
+  const unformatted = /(?:^|[^\w.])(\d+\.\d*000)(?![\d.])|(?:^|[^\w.])([-\u2212]?0\.00+)(?![\d.])/g;
+  // e-notation where a computed value is shown (a table cell, a glued value); prose and
+  // API signatures may quote code
+  const enote = /(?:^|[^\w.])(\d+(?:\.\d+)?e[-+]?\d+)(?![\w.])/g;
   const numbers = new Set();
   const walker2 = document.createTreeWalker(main, NodeFilter.SHOW_TEXT);
   for (let n = walker2.nextNode(); n; n = walker2.nextNode()) {
-    if (n.parentElement.closest('pre, code, script, style, mjx-container, textarea, .cell_input, div.highlight')) continue;
+    if (n.parentElement.closest('pre, code, script, style, mjx-container, textarea, .cell_input, div.highlight, dt.sig')) continue;
     for (const m of n.textContent.matchAll(unformatted))
-      numbers.add((m[1] || m[2] || m[3]) + ' in "' + n.textContent.trim().slice(0, 50) + '"');
+      numbers.add((m[1] || m[2]) + ' in "' + n.textContent.trim().slice(0, 50) + '"');
+    if (n.parentElement.closest('td, th, .pasted-text, .pasted-inline'))
+      for (const m of n.textContent.matchAll(enote))
+        numbers.add(m[1] + ' in "' + n.textContent.trim().slice(0, 50) + '"');
   }
   for (const x of numbers) out.push(['number', 'unformatted: ' + x]);
   // pandas index rows: a header row holding only the index name(s), the rest empty
@@ -311,7 +317,8 @@ BAD_PAGE = """<!DOCTYPE html><html><head>
 <a href="nowhere.html">broken link</a> <a href="#no-such-anchor">broken anchor</a>
 <div class="cell_output"><div class="output stderr"><pre>ValueError: bad</pre></div></div>
 <pre>a line of code far too long for the column it sits in, so that it runs out of its box sideways</pre>
-<p>a rate of 12.800000 rad/(m s), an energy defect of 0.000 and 1.4e-16 J</p>
+<p>a rate of 12.800000 rad/(m s), an energy defect of 0.000 and
+<span class="pasted-text">1.4e-16</span> J; in prose as code, 1e-8 N is allowed</p>
 <table><thead><tr><th></th><th>t_c</th></tr><tr><th>seed</th><th></th></tr></thead>
 <tbody><tr><th>1e-8</th><td>14.70</td></tr></tbody></table>
 <dl class="py data"><dt>m_cri</dt><dd><p>Convert a string or number to a floating point number, if possible.</p></dd></dl>
