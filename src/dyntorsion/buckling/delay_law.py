@@ -114,6 +114,15 @@ def _determined(a: np.ndarray, k: np.ndarray, kappa_cri: float | None, n_par: in
         )
 
 
+def _static_or_given(kappa_cri: float | str | None, rod: Rod) -> float | None:
+    """``kappa_cri`` of a fit: ``"static"`` (this rod's, eq 32), a number, or None (free)."""
+    if isinstance(kappa_cri, str):
+        if kappa_cri != "static":
+            raise ValueError(f"kappa_cri={kappa_cri!r}; allowed: 'static', a number, None")
+        return critical_twist(rod)
+    return kappa_cri
+
+
 def fit_power_law(
     a: Sequence[float],
     kappa3: Sequence[float],
@@ -144,10 +153,7 @@ def fit_power_law(
     if np.any(a <= 0):
         raise ValueError(f"a must be > 0 (got min {a.min()!r})")
     free = kappa_cri is None
-    if isinstance(kappa_cri, str):
-        if kappa_cri != "static":
-            raise ValueError(f"kappa_cri={kappa_cri!r}; allowed: 'static', a number, None")
-        kappa_cri = critical_twist(rod)
+    kappa_cri = _static_or_given(kappa_cri, rod)
     n_par = 3 if free else 2
     if a.size < n_par + 1:
         raise ValueError(
@@ -286,10 +292,7 @@ def fit_in_space(
     if space in ("t", "log t") and np.any(k <= kappa0):
         raise ValueError(f"kappa3 must exceed kappa0 = {kappa0:g} to fit the time to buckle")
     free = kappa_cri is None
-    if isinstance(kappa_cri, str):
-        if kappa_cri != "static":
-            raise ValueError(f"kappa_cri={kappa_cri!r}; allowed: 'static', a number, None")
-        kappa_cri = critical_twist(rod)
+    kappa_cri = _static_or_given(kappa_cri, rod)
     x = rate_number(a, rod)
     # start from the paper's fit (linear in kappa3), in the parameters ln(b / L) and sigma
     start = fit_power_law(a, k, rod, kappa_cri=kappa_cri, n_boot=0)
