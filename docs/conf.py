@@ -120,8 +120,44 @@ def _keep_glue(app, exception):
             shutil.copyfile(glued, target / f"{doc}.glue.json")
 
 
+def _drop_dangling_viewcode_links(app, exc):
+    """Remove the ``[docs]`` and ``[source]`` links of sphinx.ext.viewcode whose anchor no
+    page has.  viewcode tags a module's names by where they are bound, so a kernel module
+    imported by another (``passage`` by ``linear_stability``) got ``[docs]`` links to
+    ``linear_stability.Tensors``, and a property (``Rod.isotropic``) a ``[source]`` link to
+    an anchor its source page lacks; ``make site-check`` reports any link that dangles."""
+    import re
+    from pathlib import Path
+
+    if exc is not None or app.builder.format != "html":
+        return
+    out = Path(app.outdir).resolve()
+    ids: dict[Path, set[str]] = {}
+
+    def has(target: Path, anchor: str) -> bool:
+        if target not in ids:
+            text = target.read_text(encoding="utf-8") if target.is_file() else ""
+            ids[target] = set(re.findall(r'id="([^"]+)"', text))
+        return anchor in ids[target]
+
+    link = re.compile(
+        r'<a class="(?:viewcode-back|reference internal)" href="([^"#]+)#([^"]+)">'
+        r'(?:\[docs\]|<span class="viewcode-link"><span class="pre">\[source\]</span></span>)</a>'
+    )
+    for page in out.rglob("*.html"):
+        text = page.read_text(encoding="utf-8")
+
+        def keep(m, page=page):
+            return m.group(0) if has((page.parent / m.group(1)).resolve(), m.group(2)) else ""
+
+        new = link.sub(keep, text)
+        if new != text:
+            page.write_text(new, encoding="utf-8")
+
+
 def setup(app):
     app.connect("autodoc-process-docstring", _no_builtin_docstring)
     app.connect("build-finished", _keep_glue)
+    app.connect("build-finished", _drop_dangling_viewcode_links)
     app.connect("doctree-resolved", _alt_text)
     app.connect("autodoc-process-signature", _factory_defaults)

@@ -20,6 +20,8 @@ view of it, and the second set computed afterwards.
 
 from __future__ import annotations
 
+import math
+
 import argparse
 from pathlib import Path
 from typing import Any
@@ -61,7 +63,13 @@ def group_of(scene: Any) -> str:
         return "compression"
     if scene.rod != Rod():
         return "another rod"
-    return f"Fig 10, seed {scene.seed.magnitude:g} N/m"
+    m = scene.seed.magnitude
+    k = round(math.log10(m)) if m > 0 else None
+    size = f"10{str(k).translate(_SUPERSCRIPT)}" if k is not None and m == 10.0**k else f"{m:.3g}"
+    return f"Fig 10, seed {size} N/m"
+
+
+_SUPERSCRIPT = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
 
 
 def _table(name: str, store: Store | str | Path | None) -> pd.DataFrame:
