@@ -20,9 +20,8 @@ view of it, and the second set computed afterwards.
 
 from __future__ import annotations
 
-import math
-
 import argparse
+import math
 from pathlib import Path
 from typing import Any
 
