@@ -145,3 +145,11 @@ def test_the_linear_theory_refuses_what_it_does_not_model():
     for kw in ({"start": "step"}, {"seed": Perturbation(duration=0.1)}):
         with pytest.raises(ValueError, match="pretwisted rod"):
             Prediction(Scene(**FAST, **kw))
+
+
+def test_scene_is_a_public_name_beside_run_scene():
+    import dyntorsion
+
+    assert dyntorsion.Scene is Scene and "Scene" in dyntorsion.__all__
+    with pytest.raises(AttributeError, match="no attribute 'Sceen'"):
+        dyntorsion.Sceen  # noqa: B018

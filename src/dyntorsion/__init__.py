@@ -16,7 +16,16 @@ from .model.rod import Rod
 if TYPE_CHECKING:
     from .buckling.scene import Scene
 
-__all__ = ["Rod", "__version__", "run_scene"]
+__all__ = ["Rod", "Scene", "__version__", "run_scene"]
+
+
+def __getattr__(name: str) -> Any:
+    """``Scene``, imported from the buckling layer on first use (as :func:`run_scene` is)."""
+    if name == "Scene":
+        from .buckling.scene import Scene
+
+        return Scene
+    raise AttributeError(f"module 'dyntorsion' has no attribute {name!r}")
 
 
 def run_scene(scene: Scene, rtol: float | None = None, **options: Any) -> dict[str, Any]:
