@@ -280,6 +280,9 @@ def main() -> None:
             alternating = per_step_alternating({"now": ROOT / "src", "baseline": wt / "src"})
         finally:
             subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force", str(wt)])
+    # the same-grid step in alternating rounds: back to back, the same code measured
+    # 0.33 of itself under the load of another job (2026-11-25)
+    now["fig8_step_us"], base["fig8_step_us"] = alternating["now"], alternating["baseline"]
     rows = [
         ("Fig 8 scene to its onset, N=50, dt=0.02 s", "fig8_onset_s", 0.05),
         ("  with Newton(stopping='correction')", "fig8_correction_s", 0.05),
@@ -302,8 +305,8 @@ def main() -> None:
     rows += [
         ("issue 34: Fig 8 onset within 0.5 % (the fastest setting)", "fig8_fast_s", 0.010),
         ("issue 34: 16-rate sweep, each onset within 0.5 % (paced)", "fig10_paced_s", 0.3),
-        ("issue 34: same-grid Fig 8 run, half the baseline's", "fig8_onset_s",
-         0.5 * base["fig8_onset_s"]),
+        ("issue 34: same-grid Fig 8 step [us], half the baseline's", "fig8_step_us",
+         0.5 * alternating["baseline"]),
     ]  # fmt: skip
     print(f"baseline {args.baseline}; medians; {time.perf_counter() - start:.0f} s in all")
     print(f"{'target':52s} {'floor':>8s} {'now':>9s} {'baseline':>9s} {'ratio':>6s}  met")
