@@ -59,14 +59,8 @@ class Factors(NamedTuple):
 
 
 #: solves by substitution with new LU factors before their explicit operators are built
-#: (:func:`solve`): the rent-or-buy break-even, building them (160 us at N = 50) over what
-#: they save a solve (8 us: 10 against 18).  Factors the Newton iteration replaces after
-#: 5 to 20 solves (the bent rod, the coarse fast routes) then never pay for operators
-#: they would not earn back.  Counted over the Fig 8 scene's factorisations (issue 34,
-#: ``benchmarks/profile_fig08.py``): solve and build cost 3 % less than with 4 at
-#: dt = 0.02 s, 20 % less at dt = 0.05 s and tol 1e-6; 1, 4 and 8 had given the same Fig 10
-#: sweep time within 1.2 %, where factors are kept for hundreds of solves
-EXPLICIT_AFTER = 20
+#: (:func:`solve`); 1, 4 and 8 gave the same Fig 10 sweep time within 1.2 %
+EXPLICIT_AFTER = 4
 
 FACTORS = named(Factors)
 
