@@ -44,6 +44,7 @@ from ...genalpha.guard import real
 from ...model.cosserat import Cosserat
 from .centreline import Reconstruction
 from .damped import damped_system
+from .marching import march_implicit
 from .law import NO_CONTACT, LawParams, contact_forces, contact_sites, lag_cost
 from .topology import closed_polygon, link_turns, passage, twist_turns, writhe_turns
 
@@ -65,6 +66,10 @@ class Contact:
     viscous, viscous_moment : linear damping per length of the velocity [N s/m^2] and of
         the spin [N s], >= 0 (0: none).
     stability : omega_c dt_run <= stability (the lagged penalty's step), in (0, 2].
+    implicit : the contact inside the implicit step (:mod:`.implicit`, :mod:`.marching`);
+        False: lagged one step (the first cut).
+    max_step : implicit: dt_run = scene.dt / m <= max_step [s], > 0 (an accuracy bound:
+        the implicit law is stable at any step).
     check : interval of the topology check and of the recorded histories [s], > 0.
     """
 
@@ -76,13 +81,15 @@ class Contact:
     viscous_moment: float = 0.0
     stability: float = 0.5
     check: float = 0.01
+    implicit: bool = True
+    max_step: float = 2.5e-4
 
     def __post_init__(self) -> None:
         for name, lo, strict, hi in (
             ("stiffness", 0.0, True, math.inf), ("damping", 0.0, False, math.inf),
             ("min_arc", 1.0, False, math.inf), ("viscous", 0.0, False, math.inf),
             ("viscous_moment", 0.0, False, math.inf), ("stability", 0.0, True, 2.0),
-            ("check", 0.0, True, math.inf),
+            ("check", 0.0, True, math.inf), ("max_step", 0.0, True, math.inf),
         ):  # fmt: skip
             v = real(name, getattr(self, name))
             if not ((v > lo if strict else v >= lo) and v <= hi):
@@ -91,6 +98,7 @@ class Contact:
                 raise ValueError(f"contact {name}={v!r} must be {low}{high}")
             object.__setattr__(self, name, float(v))
         object.__setattr__(self, "fixtures", bool(self.fixtures))
+        object.__setattr__(self, "implicit", bool(self.implicit))
 
     def params(self) -> dict[str, Any]:
         return asdict(self)
@@ -127,7 +135,10 @@ class ContactScene:
         return {**self.scene.params(), "contact": self.contact.params()}
 
     def substeps(self) -> int:
-        """m: dt_run = scene.dt / m, the smallest with omega_c dt_run <= stability."""
+        """m: dt_run = scene.dt / m, the smallest with omega_c dt_run <= stability (lagged)
+        or dt_run <= max_step (implicit)."""
+        if self.contact.implicit:
+            return max(1, math.ceil(self.scene.dt / self.contact.max_step - 1e-12))
         w = self.contact.omega(self.scene.rod.mass_per_length)
         return max(1, math.ceil(w * self.scene.dt / self.contact.stability - 1e-12))
 
@@ -325,8 +336,12 @@ def run_contact_scene(
     check_every = max(1, int(round(cs.contact.check / dt)))
     between = _Between(cs, model, y0, rod.L / n, dt, q_seed, check_every, time_route)
     stopped = "t_end"
+    if c.implicit:
+        run = march_implicit(between, system, scene.scheme, scene.newton,
+                             Grid(n, rod.L, dt, t_end), y0, left, right, q_seed)  # fmt: skip
+        stopped = run.stopped
     try:
-        run = integrate(
+        run = run if c.implicit else integrate(
             system, Grid(n, rod.L, dt, t_end), y0=y0, left=left, right=right,
             scheme=scene.scheme, newton=scene.newton,
             sources=Sources(separable=(q_seed, None), field=between.field),
@@ -339,7 +354,7 @@ def run_contact_scene(
             raise
         run = err.run
         stopped = f"failed: {err}"
-    between.finish(run.y, stopped == "t_end")
+    between.finish(run.y, stopped == "t_end" and not c.implicit)
     h = {k: np.asarray(v) for k, v in between.hist.items()}
     work = between.work
     w_in = work["ends"] + work["seed"]
@@ -376,4 +391,12 @@ def run_contact_scene(
         "drift": between.recon.drift.as_dict(),
         "wall_time": time.perf_counter() - wall,
     }
+    if c.implicit:
+        summary["implicit"] = {
+            "contact_steps": run.contact_steps,
+            "contact_newton_iterations": run.contact_iterations,
+            "seconds_per_contact_step": run.contact_seconds / max(run.contact_steps, 1),
+            "seconds_per_free_step": run.free_seconds / max(run.steps - run.contact_steps, 1),
+            "largest_predicted_overlap_over_D": run.largest_predicted_overlap / rod.thickness,
+        }
     return ContactRun(cs, run, h, summary)

@@ -1,0 +1,271 @@
+"""The contact law of :mod:`.law` inside the implicit step: force and Jacobian at the new
+level as functions of the new velocity fields (issue 33, item 2).
+
+**Positions at the new level.**  The centreline of the known level i-1 is rebuilt from
+the 12 fields (:mod:`.centreline`); at the new level the contact points are predicted
+from it and the lab velocities V = R^T u (R the frames of the known level) by the
+time rule of eq (11),
+
+    r^i = r^{i-1} + dt [(1 - g_t) V^{i-1} + g_t V^i],                           (C1)
+
+so a contact force depends on the velocity unknowns u^i of the four nodes of its two
+segments only (three of them on the body frame of each node).
+
+**Law, linearised in the step.**  For a pair of segments found near at the known level
+(a k-d tree of segment midpoints, radius ds + D + travel), the closest points a(s), b(t)
+and the unit normal n = (a - b) / |a - b| are those of the known level and stay fixed
+during the step; the gap at the new level is n . (a^i - b^i) with a^i, b^i from (C1).
+The force on segment a is that of :mod:`.law` on this gap,
+
+    F = w max(0, k delta - c v_n) n,    delta = D - n . (a^i - b^i),   v_n = n . (V_a^i - V_b^i),
+
+shared by the linear weights (1 - s, s) and (-(1 - t), -t) among the four nodes, w the
+law's weight (ds, halved at a segment's end node).  With the normal fixed the gap is
+linear in u^i, so F is piecewise linear in u^i and its Jacobian exact on each piece:
+
+    dF / dV_b = -w (k g_t dt + c) n n^T sigma_b    (active pairs; 0 otherwise)    (C2)
+
+(sigma_b the weight of node b).  A normal fixed over the step cannot be crossed: the rod
+cannot pass through itself within a step that starts on the right side, whatever the
+step, as the spatial normal of the lagged law could (it flips when the centrelines cross).
+
+**Source of eq (7).**  The nodal forces f_a (inertial) enter the linear momentum balance
+as q_a = -R_a f_a / w_a (body components per unit length, w_a = ds, ds/2 at the ends) at
+the new level, with the box scheme's weights (1 - b_t) and, within a cell,
+(1 - b_s, b_s) on its right and left node.  Their Jacobian (C2) has nonzero columns only
+on the velocities of the nodes in contact: 3 m columns (m nodes) added to the banded
+Jacobian of the step, solved by the banded LU and the Woodbury identity
+
+    (J + C E^T)^{-1} b = z - Z (I + E^T Z)^{-1} E^T z,    z = J^{-1} b,  Z = J^{-1} C,
+
+3 m more banded solves and one dense 3m x 3m solve per factorisation.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from ..._numba import jit
+from ...genalpha.discrete import solve_neg
+from .law import LawParams, _closest, _share
+
+__all__ = ["StepParams", "Pairs", "candidates", "contact_source", "woodbury_solve"]
+
+
+class StepParams(NamedTuple):
+    """What the implicit law of one step reads: the law and the step's scheme numbers."""
+
+    law: LawParams
+    dt: float
+    g_t: float  # eq (11): r^i = r^{i-1} + dt [(1 - g_t) V^{i-1} + g_t V^i]
+    b_t: float  # weight of the old level in the cell residual
+    b_s: float  # weight of the left node in the cell residual
+
+
+class Pairs(NamedTuple):
+    """The candidate pairs of one step, from the known level.  ``nodes[p]``: the four
+    nodes (-1: a fixed point of an end fixture), ``sigma[p]`` their weights, ``n[p]`` the
+    normal, ``d[p]`` the closest-point vector a - b at the known level, ``w[p]`` the
+    law's weight."""
+
+    nodes: np.ndarray  # (P, 4) int64
+    sigma: np.ndarray  # (P, 4)
+    n: np.ndarray  # (P, 3)
+    d: np.ndarray  # (P, 3)
+    w: np.ndarray  # (P,)
+
+
+NO_PAIRS = Pairs(np.zeros((0, 4), np.int64), np.zeros((0, 4)), np.zeros((0, 3)),
+                 np.zeros((0, 3)), np.zeros(0))  # fmt: skip
+
+
+def _gather(p: LawParams, r, pairs, reach, tails, fixtures):
+    """The candidate pairs (module docstring) among segment pairs ``pairs`` and, with
+    ``fixtures``, the segments against the two axis pieces ``tails``: closer than
+    ``reach`` at the known level and farther apart along the rod than ``min_arc``."""
+    n_seg = r.shape[0] - 1
+    nodes, sigma, normal, dist, weight = [], [], [], [], []
+    for i, j in pairs:
+        i, j = (i, j) if i < j else (j, i)
+        if (j - i - 1) * p.ds <= p.min_arc:
+            continue
+        s, t, dv = _closest(r[i], r[i + 1], r[j], r[j + 1])
+        d = float(np.sqrt(dv @ dv))
+        if d >= reach or d == 0.0:
+            continue
+        nodes.append((i, i + 1, j, j + 1))
+        sigma.append((1.0 - s, s, -(1.0 - t), -t))
+        normal.append(dv / d)
+        dist.append(dv)
+        weight.append(p.ds * _share(s) * _share(t))
+    if fixtures:
+        low = np.minimum(r[1:, 2], r[:-1, 2])
+        high = np.maximum(r[1:, 2], r[:-1, 2])
+        near = (low < r[0, 2] + reach, high > r[-1, 2] - reach)
+        for k in range(2):
+            for i in np.nonzero(near[k])[0]:
+                gap = (n_seg - 1 - i) * p.ds if k == 1 else i * p.ds
+                if gap <= p.min_arc:
+                    continue
+                s, _, dv = _closest(r[i], r[i + 1], tails[k, 0], tails[k, 1])
+                d = float(np.sqrt(dv @ dv))
+                if d >= reach or d == 0.0:
+                    continue
+                nodes.append((i, i + 1, -1, -1))
+                sigma.append((1.0 - s, s, 0.0, 0.0))
+                normal.append(dv / d)
+                dist.append(dv)
+                weight.append(p.ds * _share(s))
+    if not nodes:
+        return NO_PAIRS
+    return Pairs(np.array(nodes, np.int64), np.array(sigma), np.array(normal),
+                 np.array(dist), np.array(weight))  # fmt: skip
+
+
+def candidates(p: LawParams, r: np.ndarray, V: np.ndarray, dt: float, fixtures: bool) -> Pairs:
+    """The pairs that may touch during a step of dt from the known level (r, V): closest
+    points nearer than D + travel, travel = 4 dt max|V| + D/2 (twice the largest
+    relative displacement at the known speeds, and half a diameter)."""
+    reach = p.diameter + 4.0 * dt * float(np.max(np.linalg.norm(V, axis=1))) + 0.5 * p.diameter
+    mid = 0.5 * (r[1:] + r[:-1])
+    pairs = cKDTree(mid).query_pairs(p.ds + reach, output_type="ndarray")
+    pairs = pairs[(np.abs(pairs[:, 1] - pairs[:, 0]) - 1) * p.ds > p.min_arc]
+    tails = np.zeros((2, 2, 3))
+    if fixtures:
+        L = p.ds * (r.shape[0] - 1)
+        e3 = np.array([0.0, 0.0, 1.0])
+        tails = np.array([[r[0], r[0] - L * e3], [r[-1], r[-1] + L * e3]])
+    return _gather(p, np.ascontiguousarray(r), pairs, reach, tails, fixtures)
+
+
+@jit
+def _forces(sp: StepParams, nodes, sigma, normal, dist, weight, V_old, V_new, f, active):
+    """Nodal forces f (N+1, 3, inertial) of the pairs at the new velocities V_new; the
+    pairs' state ``active[p]`` (1 pressing), their stiffness factor and the largest gap
+    overlap delta.  Returns (overlap, energy, dashpot power)."""
+    k, c, D = sp.law.stiffness, sp.law.damping, sp.law.diameter
+    worst, energy, power = 0.0, 0.0, 0.0
+    for p in range(nodes.shape[0]):
+        gap = 0.0
+        vn = 0.0
+        for a in range(4):
+            b = nodes[p, a]
+            if b < 0:
+                continue
+            for x in range(3):
+                dr = sp.dt * ((1.0 - sp.g_t) * V_old[b, x] + sp.g_t * V_new[b, x])
+                gap += sigma[p, a] * dr * normal[p, x]
+                vn += sigma[p, a] * V_new[b, x] * normal[p, x]
+        for x in range(3):
+            gap += dist[p, x] * normal[p, x]
+        delta = D - gap
+        worst = max(worst, delta)
+        mag = k * delta - c * vn
+        active[p] = 1 if (delta > 0.0 and mag > 0.0) else 0
+        if active[p] == 0:
+            continue
+        w = weight[p]
+        energy += 0.5 * w * k * delta * delta
+        power += -w * c * vn * vn
+        for a in range(4):
+            b = nodes[p, a]
+            if b < 0:
+                continue
+            for x in range(3):
+                f[b, x] += sigma[p, a] * w * mag * normal[p, x]
+    return worst, energy, power
+
+
+class Source(NamedTuple):
+    """The contact at one iterate: the source q (N+1, nf) of eq (7) at the new level, the
+    Jacobian columns ``C`` (rows of the scaled residual x 3m) on the scaled unknowns
+    ``cols`` (3m flat indices), and the largest predicted overlap, the stored energy and
+    the dashpots' power of the pairs."""
+
+    q: np.ndarray
+    C: np.ndarray
+    cols: np.ndarray
+    overlap: float
+    energy: float
+    power: float
+    active: int
+
+
+def contact_source(sp: StepParams, pairs: Pairs, R, V_old, u_new, weights, nf, nbl, rscale,
+                   yscale, want_jac: bool = True) -> Source:  # fmt: skip
+    """The contact source and its Jacobian columns (module docstring, C1-C2) at the iterate
+    whose velocities are ``u_new`` (body, (N+1, 3)); ``R`` the frames of the known level."""
+    n1 = R.shape[0]
+    V_new = np.einsum("nji,nj->ni", R, u_new)
+    f = np.zeros((n1, 3))
+    active = np.zeros(pairs.nodes.shape[0], np.int64)
+    worst, energy, power = _forces(sp, pairs.nodes, pairs.sigma, pairs.n, pairs.d, pairs.w,
+                                   V_old, V_new, f, active)  # fmt: skip
+    q = np.zeros((n1, nf))
+    q[:, 0:3] = -np.einsum("nij,nj->ni", R, f) / weights[:, None]
+    on = active == 1
+    if not want_jac or not on.any():
+        return Source(q, np.zeros((0, 0)), np.zeros(0, np.int64), worst, energy, power, int(on.sum()))
+    law = sp.law
+    nodes = np.unique(pairs.nodes[on][pairs.nodes[on] >= 0])
+    where = {int(b): m for m, b in enumerate(nodes)}
+    m3 = 3 * nodes.size
+    n_rows = nf * n1
+    C = np.zeros((n_rows, m3))
+    # dq_a / du_b = -R_a (df_a / dV_b) R_b^T / w_a, df_a/dV_b = -sig_a sig_b w (k g dt + c) n n^T
+    for p in np.nonzero(on)[0]:
+        nn = np.outer(pairs.n[p], pairs.n[p]) * (-pairs.w[p] * (law.stiffness * sp.g_t * sp.dt + law.damping))
+        for a in range(4):
+            na = pairs.nodes[p, a]
+            if na < 0:
+                continue
+            for b in range(4):
+                nb = pairs.nodes[p, b]
+                if nb < 0:
+                    continue
+                blk = -(R[na] @ (pairs.sigma[p, a] * pairs.sigma[p, b] * nn) @ R[nb].T) / weights[na]
+                col = 3 * where[int(nb)]
+                # node na is the right node of cell na-1 and the left node of cell na
+                for cell, wt in ((na - 1, 1.0 - sp.b_s), (na, sp.b_s)):
+                    if 0 <= cell < n1 - 1:
+                        row = nbl + nf * cell
+                        C[row : row + 3, col : col + 3] += (1.0 - sp.b_t) * wt * blk
+    C[:, :] *= np.tile(yscale[0:3], nodes.size)[None, :]
+    C[: n_rows, :] /= _row_scale(rscale, nf, n1, nbl)[:, None]
+    cols = (nf * nodes[:, None] + np.arange(3)[None, :]).ravel()
+    return Source(q, C, cols, worst, energy, power, int(on.sum()))
+
+
+def _row_scale(rscale, nf, n1, nbl):
+    """The scale of every row of the step's residual (boundary rows: 1, unused here)."""
+    s = np.ones(nf * n1)
+    s[nbl : nbl + nf * (n1 - 1)] = np.tile(rscale, n1 - 1)
+    return s
+
+
+def add_to_residual(r, q_new, sp: StepParams, nf, nbl, rscale) -> None:
+    """r += the new level's contact source in every cell: (1 - b_t) [(1 - b_s) q_j +
+    b_s q_{j-1}] / rscale (the rows of prepare_step / residual)."""
+    cell = (1.0 - sp.b_t) * ((1.0 - sp.b_s) * q_new[1:] + sp.b_s * q_new[:-1]) / rscale
+    r[nbl : nbl + cell.size] += cell.ravel()
+
+
+def woodbury_solve(fac, r, C, cols, out) -> None:
+    """out = -(J + C E^T)^{-1} r, J the banded Jacobian whose factors ``fac`` hold, E the
+    columns ``cols`` of the identity (module docstring)."""
+    solve_neg(fac, r, out)  # out = -J^{-1} r = z
+    if cols.size == 0:
+        return
+    m = cols.size
+    Z = np.empty((m, out.size))
+    tmp = np.empty_like(out)
+    for c in range(m):
+        solve_neg(fac, np.ascontiguousarray(C[:, c]), tmp)
+        Z[c] = -tmp.ravel()  # J^{-1} C[:, c]
+    z = out.ravel()
+    small = np.eye(m) + Z[:, cols].T
+    corr = np.linalg.solve(small, z[cols])
+    out[:, :] = (z - Z.T @ corr).reshape(out.shape)
