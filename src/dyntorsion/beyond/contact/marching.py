@@ -25,7 +25,7 @@ import numpy as np
 from ..._numba import A1, A2, JACOBIAN_SIGNATURE, LOAD_SIGNATURE, jit
 from ...buckling.stops import STRAIGHT
 from ...genalpha import abd as _abd
-from ...genalpha.discrete import CONSTANTS, WORK, factor, prepare_step, residual, setup
+from ...genalpha.discrete import CONSTANTS, WORK, constants, factor, prepare_step, residual, setup
 from ...genalpha.newton import (
     NEWTON_OPTIONS,
     ConvergenceError,
@@ -117,44 +117,58 @@ def _contact_newton(system, con, w, fac, gL, gR, sp, pairs, R, V_old, weights, o
     return False, opts.max_iter, src
 
 
-def march_implicit(between, system, scheme, newton, grid, y0, left, right, q_seed) -> Marched:
+class _Level:
+    """The constants of steps of one length h: the engine's, the law's, the boundary rows."""
+
+    def __init__(self, system, scheme, ds, h, left, right, law):
+        self.h = h
+        self.con = constants(system, scheme, ds, h, left, right)
+        co = self.con.co
+        self.sp = StepParams(law, h, co.g_t, co.b_t, co.b_s)
+
+
+def march_implicit(between, system, scheme, newton, grid, y0, left, right, q_seed,
+                   substeps: int) -> Marched:  # fmt: skip
     """March ``grid`` from y0 with the contact implicit (module docstring); ``between`` is
-    the run's :class:`.run._Between`, consulted after every step."""
-    n1, nf, dt, ds = y0.shape[0], system.nf, grid.dt, grid.ds
-    n_steps = int(math.ceil((grid.t_end - grid.t0) / dt - 1e-9))
-    times = grid.t0 + dt * np.arange(n_steps + 1)
+    the run's :class:`.run._Between`, consulted after every step.  A step of ``grid.dt``
+    near which no pair can touch is taken whole; one where some can, in ``substeps``
+    steps of grid.dt / substeps."""
+    n1, nf, ds = y0.shape[0], system.nf, grid.ds
+    n_steps = int(math.ceil((grid.t_end - grid.t0) / grid.dt - 1e-9))
     src0 = EngineSource.of(grid.s, nf, (q_seed, None), None)
     rate0 = initial_rate(system, y0, ds, "consistent", src0, grid.t0)
-    con, w, fac = setup(system, scheme, n1 - 1, ds, dt, left, right, y0, rate0)
+    _, w, fac = setup(system, scheme, n1 - 1, ds, grid.dt, left, right, y0, rate0)
+    whole = _Level(system, scheme, ds, grid.dt, left, right, between.law)
+    part = _Level(system, scheme, ds, grid.dt / substeps, left, right, between.law)
     opts = newton.options()
     retry = opts._replace(reuse=False, rate_predictor=not opts.rate_predictor)
-    gLs, gRs = left.at(times), right.at(times)
-    co = con.co
-    sp = StepParams(between.law, dt, co.g_t, co.b_t, co.b_s)
     weights, recon = between.weights, between.recon
     q_seed = np.ascontiguousarray(q_seed, float)
-    q_old = np.zeros((n1, nf))
     zeros = np.zeros((n1, nf))
-    out = Marched(y0, float(times[0]), 0, "t_end")
-    for k in range(n_steps):
+    state = {"q_old": zeros, "level": None}
+    out = Marched(y0, float(grid.t0), 0, "t_end")
+    check_every = max(1, int(round(between.c.check / grid.dt)))
+
+    def step(lv: _Level, t_new: float, near) -> bool:
         tick = time.perf_counter()
-        _prepare(system.F, con, w, q_seed, q_old, zeros)
-        V_old = recon.velocities(w.y_old)
-        near = NO_PAIRS  # no part can reach another while the rod is nearly straight
-        if between.ds * np.sum(np.hypot(w.y_old[:, 6], w.y_old[:, 7])) >= STRAIGHT:
-            near = candidates(sp.law, recon.r, V_old, dt, between.c.fixtures)
-        gL, gR = gLs[k + 1], gRs[k + 1]
+        if state["level"] is not lv:
+            w.factored[0] = 0  # the factors held are of the other step length
+            state["level"] = lv
+        con, h = lv.con, lv.h
+        _prepare(system.F, con, w, q_seed, state["q_old"], zeros)
+        gL, gR = left.at(np.array([t_new]))[0], right.at(np.array([t_new]))[0]
         w.y[:, :] = w.y_old
         q_new, ok = zeros, True
         if near.nodes.shape[0] == 0:
             if _free_newton(system.F, system.dF, con, gL, gR, w, fac, opts) != 0:
-                w.y[:, :] = w.y_old + dt * w.rate_old
+                w.y[:, :] = w.y_old + h * w.rate_old
                 w.factored[0] = 0
                 ok = _free_newton(system.F, system.dF, con, gL, gR, w, fac, retry) == 0
             out.free_seconds += time.perf_counter() - tick
         else:
+            V_old = recon.velocities(w.y_old)
             ok, its, src = _contact_newton(
-                system, con, w, fac, gL, gR, sp, near, recon.R, V_old, weights, opts
+                system, con, w, fac, gL, gR, lv.sp, near, recon.R, V_old, weights, opts
             )
             q_new = src.q
             out.contact_steps += 1
@@ -162,18 +176,44 @@ def march_implicit(between, system, scheme, newton, grid, y0, left, right, q_see
             out.largest_predicted_overlap = max(out.largest_predicted_overlap, src.overlap)
             out.contact_seconds += time.perf_counter() - tick
         if not ok:
-            err = ConvergenceError(float(times[k + 1]), k + 1, opts.max_iter, float("nan"),
-                                   "Newton did not converge (implicit contact step)")  # fmt: skip
+            err = ConvergenceError(t_new, out.steps + 1, opts.max_iter, float("nan"),
+                                   "Newton did not converge (implicit contact step)", dt=h)  # fmt: skip
             out.stopped = f"failed: {err}"
-            break
-        # eq (11): the new rate from the new level
-        g_t = co.g_t
-        w.rate_old[:, :] = (w.y - w.y_old) / (g_t * dt) - (1.0 - g_t) / g_t * w.rate_old
+            return False
+        g_t = con.co.g_t  # eq (11): the new rate from the new level
+        w.rate_old[:, :] = (w.y - w.y_old) / (g_t * h) - (1.0 - g_t) / g_t * w.rate_old
         w.y_old[:, :] = w.y
-        q_old = q_new
+        state["q_old"] = q_new
         between.pending = q_new
-        out.y, out.t_final, out.steps = w.y_old.copy(), float(times[k + 1]), k + 1
-        reason = between(float(times[k + 1]), w.y_old)
+        out.y, out.t_final, out.steps = w.y_old.copy(), t_new, out.steps + 1
+        return True
+
+    def near_pairs(lv: _Level):
+        if between.ds * np.sum(np.hypot(w.y_old[:, 6], w.y_old[:, 7])) < STRAIGHT:
+            return NO_PAIRS  # no part can reach another while the rod is nearly straight
+        V_old = recon.velocities(w.y_old)
+        return candidates(lv.sp.law, recon.r, V_old, lv.h, between.c.fixtures)
+
+    for k in range(n_steps):
+        t0 = grid.t0 + k * grid.dt
+        near = near_pairs(whole)
+        if near.nodes.shape[0] == 0 and not state["q_old"].any():
+            if not step(whole, grid.t0 + (k + 1) * grid.dt, near):
+                break
+            reason = between(out.t_final, w.y_old, whole.h, (k + 1) % check_every == 0)
+        else:
+            for m in range(substeps):
+                t_new = t0 + (m + 1) * part.h if m < substeps - 1 else grid.t0 + (k + 1) * grid.dt
+                if not step(part, t_new, near_pairs(part)):
+                    break
+                last = m == substeps - 1
+                reason = between(out.t_final, w.y_old, part.h, last and (k + 1) % check_every == 0)
+                if reason:
+                    break
+            else:
+                reason = None
+            if out.stopped != "t_end":
+                break
         if reason:
             out.stopped = reason
             break

@@ -238,10 +238,15 @@ class _Between:
             self.q.pop(key - 3, None)
         return self.q[key]
 
-    def __call__(self, t: float, y: np.ndarray) -> str | None:
-        """The engine's stop test at the level t, y: rebuild, contact, source, topology."""
+    def __call__(self, t: float, y: np.ndarray, dt: float | None = None,
+                 check: bool | None = None) -> str | None:  # fmt: skip
+        """The engine's stop test at the level t, y: rebuild, contact, source, topology.
+        ``dt`` the step that reached it (default the run's), ``check`` whether to take the
+        topology there (default every ``check_every`` calls)."""
         self.k += 1
         y = np.asarray(y)
+        if dt is not None:
+            self.dt = dt
         self.recon.update(y, self.dt)
         self.theta[0] += 0.5 * self.dt * (y[0, 5] + self.y_old[0, 5])
         self.theta[1] += 0.5 * self.dt * (y[-1, 5] + self.y_old[-1, 5])
@@ -269,7 +274,7 @@ class _Between:
         self.max_sites = max(self.max_sites, self.sites)
         if cf.pairs and self.first_contact_t is None:
             self.first_contact_t = float(t)
-        if self.k % self.check_every == 0:
+        if (self.k % self.check_every == 0) if check is None else check:
             self._topology(t, y, self.sites, overlap, cf.energy)
             if self.passage is not None:
                 return self.passage
@@ -338,7 +343,8 @@ def run_contact_scene(
     stopped = "t_end"
     if c.implicit:
         run = march_implicit(between, system, scene.scheme, scene.newton,
-                             Grid(n, rod.L, dt, t_end), y0, left, right, q_seed)  # fmt: skip
+                             Grid(n, rod.L, scene.dt, t_end), y0, left, right, q_seed,
+                             cs.substeps())  # fmt: skip
         stopped = run.stopped
     try:
         run = run if c.implicit else integrate(
