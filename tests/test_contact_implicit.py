@@ -23,6 +23,7 @@ from dyntorsion.model.rod import Rod
 from dyntorsion.shapes import rodrigues
 
 N, NF, NBL = 12, 12, 6
+W_OLD = np.zeros((N + 1, 3))  # spins of the known level
 
 
 def _rotations(rng, n):
@@ -41,10 +42,11 @@ def _pairs(rng, overlap):
 
 def _case(rng, overlap=2e-5):
     law = LawParams(0.001, 2e7, 30.0, 0.1, 0.3)
-    sp = StepParams(law, 2.5e-4, 0.5, 0.5, 0.5)
+    sp = StepParams(law, 2.5e-4, 0.5, 0.5, 0.5, 1e-3)
     R = _rotations(rng, N + 1)
     V_old = 0.1 * rng.normal(size=(N + 1, 3))
-    u = 0.1 * rng.normal(size=(N + 1, 3))
+    u = np.zeros((N + 1, NF))  # the iterate: velocities and spins
+    u[:, 0:6] = 0.1 * rng.normal(size=(N + 1, 6))
     weights = np.full(N + 1, 0.1)
     weights[[0, -1]] = 0.05
     rscale, yscale = rng.uniform(0.5, 2.0, NF), rng.uniform(0.5, 2.0, NF)
@@ -56,7 +58,7 @@ def test_the_jacobian_columns_are_the_derivative_of_the_contact_residual():
     sp, pairs, R, V_old, u, weights, rs, ys = _case(rng)
 
     def res(u):
-        src = contact_source(sp, pairs, R, V_old, u, weights, NF, NBL, rs, ys)
+        src = contact_source(sp, pairs, R, V_old, W_OLD, u, weights, NF, NBL, rs, ys)
         r = np.zeros(NF * (N + 1))
         add_to_residual(r, src.q, sp, NF, NBL, rs)
         return r, src
@@ -71,19 +73,22 @@ def test_the_jacobian_columns_are_the_derivative_of_the_contact_residual():
         fd = (res(up)[0] - r0) / 1e-9  # per scaled unknown
         assert np.allclose(fd, src.C[:, c], rtol=1e-5, atol=1e-6 * np.abs(src.C).max())
     # momentum: the pair's forces sum to zero in the lab frame (the fixture takes the rest)
-    f_lab = -np.einsum("nji,nj->ni", R, src.q[:, 0:3]) * weights[:, None]
+    R_new = rodrigues(0.5 * sp.dt * (u[:, 3:6] + W_OLD)) @ R
+    f_lab = -np.einsum("nji,nj->ni", R_new, src.q[:, 0:3]) * weights[:, None]
     assert np.linalg.norm(f_lab.sum(axis=0)) > 0
     self_pair = pairs._replace(**{k: getattr(pairs, k)[:1] for k in Pairs._fields})
-    one = contact_source(sp, self_pair, R, V_old, u, weights, NF, NBL, rs, ys)
-    f1 = -np.einsum("nji,nj->ni", R, one.q[:, 0:3]) * weights[:, None]
+    one = contact_source(sp, self_pair, R, V_old, W_OLD, u, weights, NF, NBL, rs, ys)
+    f1 = -np.einsum("nji,nj->ni", R_new, one.q[:, 0:3]) * weights[:, None]
     assert np.allclose(f1.sum(axis=0), 0.0, atol=1e-12 * np.abs(f1).max())
 
 
-def test_a_pair_apart_gives_no_force_and_no_columns():
+def test_a_pair_apart_gives_a_vanishing_force():
+    """0.5 D apart, at rest: the smoothed clip (C3) leaves a force below 1e-6 of k D ds."""
     rng = np.random.default_rng(3)
     sp, pairs, R, V_old, u, weights, rs, ys = _case(rng, overlap=-5e-4)
-    src = contact_source(sp, pairs, R, V_old, 0.0 * u, weights, NF, NBL, rs, ys)
-    assert src.active == 0 and src.cols.size == 0 and not src.q.any()
+    src = contact_source(sp, pairs, R, 0.0 * V_old, W_OLD, 0.0 * u, weights, NF, NBL, rs, ys)
+    law = sp.law
+    assert 0 < np.abs(src.q).max() * 0.1 < 1e-6 * law.stiffness * law.diameter * law.ds
 
 
 def _dense(w):
@@ -116,10 +121,10 @@ def test_the_woodbury_solve_on_the_banded_factors_is_the_dense_solve():
     res, pivot = _residual_factor(system.F, system.dF, con, gL, gR, w, fac)
     assert pivot < 0 and np.isfinite(res)
     law = LawParams(rod.thickness, 2e7, 30.0, rod.L / N, 0.003)
-    sp = StepParams(law, 2.5e-4, 0.5, 0.5, 0.5)
+    sp = StepParams(law, 2.5e-4, 0.5, 0.5, 0.5, 1e-3)
     _, pairs, R, V_old, _, weights, _, _ = _case(rng)
     weights = np.full(N + 1, rod.L / N)
-    src = contact_source(sp, pairs, R, V_old, w.y[:, 0:3], weights, NF, NBL, con.rscale,
+    src = contact_source(sp, pairs, R, V_old, W_OLD, w.y, weights, NF, NBL, con.rscale,
                          con.yscale)  # fmt: skip
     assert src.cols.size > 0
     J = _dense(w)
@@ -135,7 +140,7 @@ def test_the_fixed_normal_cannot_be_crossed_within_a_step(h):
     the new level (stiff spring, any step) leaves the gap n . d above zero; the lagged law
     at the same step would see them cross once 1 m/s * h > 1.2 D."""
     law = LawParams(0.001, 2e7, 0.0, 0.01, 0.03)
-    sp = StepParams(law, h, 0.5, 0.5, 0.5)
+    sp = StepParams(law, h, 0.5, 0.5, 0.5, 1e-3)
     n = np.array([0.0, 0.0, 1.0])
     pairs = Pairs(np.array([[0, 0, 1, 1]]), np.array([[1.0, 0.0, -1.0, 0.0]]), n[None],
                   (1.2e-3 * n)[None], np.array([0.01]))  # fmt: skip
@@ -145,9 +150,10 @@ def test_the_fixed_normal_cannot_be_crossed_within_a_step(h):
     # the new velocity of point 0 solves m (v - v_old) = h (f_old + f_new) / 2 with f_old = 0
     v = -0.5
     for _ in range(50):  # Newton on the scalar problem (piecewise linear: exact in 2 steps)
-        u = np.array([[0.0, 0.0, v], [0.0, 0.0, -v]])
-        q = contact_source(sp, pairs, R, V_old, u, np.full(2, 0.01), 12, 6, np.ones(12),
-                           np.ones(12), False).q  # fmt: skip
+        u = np.zeros((2, 12))
+        u[:, 2] = v, -v
+        q = contact_source(sp, pairs, R, V_old, np.zeros((2, 3)), u, np.full(2, 0.01), 12, 6,
+                           np.ones(12), np.ones(12), False).q  # fmt: skip
         f = -q[0, 2] * 0.01
         g = m * (v + 0.5) - 0.5 * h * f
         dg = m + 0.5 * h * 0.01 * 2e7 * 0.5 * h * 2 if f > 0 else m

@@ -67,6 +67,12 @@ def _residual_factor(F, dF, con, gL, gR, w, fac):
     return res, factor(con, w, fac)
 
 
+@jit(signature=numba.float64(_F, _DF, CONSTANTS, A1, A1, WORK))
+def _residual_only(F, dF, con, gL, gR, w):
+    """The residual w.r_trial at w.y_trial (its RMS)."""
+    return residual(F, dF, con, gL, gR, w.y_trial, w, w.r_trial, False)
+
+
 @jit(signature=_I(_F, _DF, CONSTANTS, A1, A1, WORK, _abd.FACTORS, NEWTON_OPTIONS))
 def _free_newton(F, dF, con, gL, gR, w, fac, opts):
     """The engine's Newton solve of a step without contact; its status."""
@@ -90,16 +96,23 @@ class Marched:
 
 
 def _contact_newton(system, con, w, fac, gL, gR, sp, pairs, R, V_old, weights, opts):
-    """Full Newton for the step with the contact's source (module docstring); returns
-    (converged, iterations, the contact's :class:`~.implicit.Source` at the solution)."""
+    """Newton for the step with the contact's source (module docstring) from w.y, a full
+    Jacobian at every iteration and a backtracking on the RMS residual (halving the
+    correction up to 5 times while it grows); returns (converged, iterations, the
+    contact's :class:`~.implicit.Source` at the solution)."""
     nf, nbl = system.nf, con.left_rows.shape[0]
     ys, rs = con.yscale, con.rscale
-    y, r, dx = w.y, w.r, w.dx
-    lam_prev = 1.0
+    y, r, dx, yt, rt = w.y, w.r, w.dx, w.y_trial, w.r_trial
+    w_old = np.ascontiguousarray(w.y_old[:, 3:6])
+
+    def rms(v):
+        return float(np.sqrt(np.mean(v * v)))
+
+    res, pivot = _residual_factor(system.F, system.dF, con, gL, gR, w, fac)
     for it in range(1, opts.max_iter + 1):
-        res, pivot = _residual_factor(system.F, system.dF, con, gL, gR, w, fac)
-        src = contact_source(sp, pairs, R, V_old, y[:, 0:3], weights, nf, nbl, rs, ys)
+        src = contact_source(sp, pairs, R, V_old, w_old, y, weights, nf, nbl, rs, ys)
         add_to_residual(r, src.q, sp, nf, nbl, rs)
+        res = rms(r)
         if not math.isfinite(res) or pivot >= 0:
             w.factored[0] = 0
             return False, it, src
@@ -108,23 +121,32 @@ def _contact_newton(system, con, w, fac, gL, gR, sp, pairs, R, V_old, weights, o
         nd = _norm(dx, y, ys)
         if not math.isfinite(nd):
             return False, it, src
-        lam = 1.0 if nd < 1.0 else max(0.1, 1.0 / nd)  # keep a first far correction sane
-        _axpy_scaled(y, lam, dx, ys, y)
-        if nd <= opts.tol and lam == 1.0 and lam_prev == 1.0:
-            src = contact_source(sp, pairs, R, V_old, y[:, 0:3], weights, nf, nbl, rs, ys, False)
+        if nd <= opts.tol:
+            _axpy_scaled(y, 1.0, dx, ys, y)
+            src = contact_source(sp, pairs, R, V_old, w_old, y, weights, nf, nbl, rs, ys, False)
             return True, it, src
-        lam_prev = lam
+        lam = 1.0
+        for _ in range(6):
+            _axpy_scaled(y, lam, dx, ys, yt)
+            _residual_only(system.F, system.dF, con, gL, gR, w)
+            trial = contact_source(sp, pairs, R, V_old, w_old, yt, weights, nf, nbl, rs, ys, False)
+            add_to_residual(rt, trial.q, sp, nf, nbl, rs)
+            if rms(rt) < res:
+                break
+            lam *= 0.5
+        y[:, :] = yt
+        res, pivot = _residual_factor(system.F, system.dF, con, gL, gR, w, fac)
     return False, opts.max_iter, src
 
 
 class _Level:
     """The constants of steps of one length h: the engine's, the law's, the boundary rows."""
 
-    def __init__(self, system, scheme, ds, h, left, right, law):
+    def __init__(self, system, scheme, ds, h, left, right, law, smooth):
         self.h = h
         self.con = constants(system, scheme, ds, h, left, right)
         co = self.con.co
-        self.sp = StepParams(law, h, co.g_t, co.b_t, co.b_s)
+        self.sp = StepParams(law, h, 0.5, co.b_t, co.b_s, smooth)  # C1: the time route's rule
 
 
 def march_implicit(between, system, scheme, newton, grid, y0, left, right, q_seed,
@@ -138,8 +160,8 @@ def march_implicit(between, system, scheme, newton, grid, y0, left, right, q_see
     src0 = EngineSource.of(grid.s, nf, (q_seed, None), None)
     rate0 = initial_rate(system, y0, ds, "consistent", src0, grid.t0)
     _, w, fac = setup(system, scheme, n1 - 1, ds, grid.dt, left, right, y0, rate0)
-    whole = _Level(system, scheme, ds, grid.dt, left, right, between.law)
-    part = _Level(system, scheme, ds, grid.dt / substeps, left, right, between.law)
+    whole = _Level(system, scheme, ds, grid.dt, left, right, between.law, between.c.smooth)
+    part = _Level(system, scheme, ds, grid.dt / substeps, left, right, between.law, between.c.smooth)
     opts = newton.options()
     retry = opts._replace(reuse=False, rate_predictor=not opts.rate_predictor)
     weights, recon = between.weights, between.recon
@@ -166,10 +188,18 @@ def march_implicit(between, system, scheme, newton, grid, y0, left, right, q_see
                 ok = _free_newton(system.F, system.dF, con, gL, gR, w, fac, retry) == 0
             out.free_seconds += time.perf_counter() - tick
         else:
-            V_old = recon.velocities(w.y_old)
+            R, _ = recon.frames(True)
+            V_old = recon.velocities(w.y_old, True)
+            w.y[:, :] = w.y_old + h * w.rate_old  # the rate predictor, then the constant one
             ok, its, src = _contact_newton(
-                system, con, w, fac, gL, gR, lv.sp, near, recon.R, V_old, weights, opts
+                system, con, w, fac, gL, gR, lv.sp, near, R, V_old, weights, opts
             )
+            if not ok:
+                w.y[:, :] = w.y_old
+                ok, more, src = _contact_newton(
+                    system, con, w, fac, gL, gR, lv.sp, near, R, V_old, weights, opts
+                )
+                its += more
             q_new = src.q
             out.contact_steps += 1
             out.contact_iterations += its
@@ -191,8 +221,8 @@ def march_implicit(between, system, scheme, newton, grid, y0, left, right, q_see
     def near_pairs(lv: _Level):
         if between.ds * np.sum(np.hypot(w.y_old[:, 6], w.y_old[:, 7])) < STRAIGHT:
             return NO_PAIRS  # no part can reach another while the rod is nearly straight
-        V_old = recon.velocities(w.y_old)
-        return candidates(lv.sp.law, recon.r, V_old, lv.h, between.c.fixtures)
+        V_old = recon.velocities(w.y_old, True)
+        return candidates(lv.sp.law, recon.frames(True)[1], V_old, lv.h, between.c.fixtures)
 
     for k in range(n_steps):
         t0 = grid.t0 + k * grid.dt

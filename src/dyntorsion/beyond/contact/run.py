@@ -70,6 +70,8 @@ class Contact:
         False: lagged one step (the first cut).
     max_step : implicit: dt_run = scene.dt / m <= max_step [s], > 0 (an accuracy bound:
         the implicit law is stable at any step).
+    smooth : implicit: the clip of the law smoothed over a force of ``smooth`` k D
+        (:mod:`.implicit`, C3), in (0, 1].
     check : interval of the topology check and of the recorded histories [s], > 0.
     """
 
@@ -83,6 +85,7 @@ class Contact:
     check: float = 0.01
     implicit: bool = True
     max_step: float = 2.5e-4
+    smooth: float = 1e-3
 
     def __post_init__(self) -> None:
         for name, lo, strict, hi in (
@@ -90,6 +93,7 @@ class Contact:
             ("min_arc", 1.0, False, math.inf), ("viscous", 0.0, False, math.inf),
             ("viscous_moment", 0.0, False, math.inf), ("stability", 0.0, True, 2.0),
             ("check", 0.0, True, math.inf), ("max_step", 0.0, True, math.inf),
+            ("smooth", 0.0, True, 1.0),
         ):  # fmt: skip
             v = real(name, getattr(self, name))
             if not ((v > lo if strict else v >= lo) and v <= hi):
@@ -186,7 +190,10 @@ class _Between:
         self.model, self.ds, self.dt, self.rod = model, ds, dt, rod
         self.law = cs.contact.law(rod, ds)
         self.q_seed, self.f_seed = q_seed, -q_seed[:, 0:3]
-        self.recon = Reconstruction(y0, ds, rod.L, time_route=time_route)
+        #: the implicit contact acts on the time route (:mod:`.centreline`): the geometry of
+        #: the law, the writhe and the shapes; the lagged one on the spatial route
+        self.time = cs.contact.implicit
+        self.recon = Reconstruction(y0, ds, rod.L, time_route=time_route or self.time)
         n1 = y0.shape[0]
         self.weights = np.full(n1, ds)
         self.weights[[0, -1]] = 0.5 * ds
@@ -255,12 +262,13 @@ class _Between:
         dw = 0.5 * self.dt * (self.power_old + p_new)
         for name, v in zip(("ends", "seed", "contact", "viscous"), dw, strict=True):
             self.work[name] += float(v)
-        v = self.recon.velocities(y)
+        v = self.recon.velocities(y, self.time)
+        r_law = self.recon.frames(self.time)[1]
         if self.ds * np.sum(np.hypot(y[:, 6], y[:, 7])) < STRAIGHT:
             cf = NO_CONTACT._replace(force=np.zeros_like(v))  # no part can reach another
         else:
-            cf = contact_forces(self.law, self.recon.r, v, self.c.fixtures)
-        f_body = self.recon.to_body(cf.force) / self.weights[:, None]
+            cf = contact_forces(self.law, r_law, v, self.c.fixtures)
+        f_body = self.recon.to_body(cf.force, self.time) / self.weights[:, None]
         q = np.zeros_like(self.pending)
         q[:, 0:3] = -f_body
         self.pending = q
@@ -292,14 +300,15 @@ class _Between:
 
     def _topology(self, t, y, sites, overlap, e_contact=0.0) -> None:
         tw = twist_turns(y[:, 8], self.ds)
-        wr = writhe_turns(closed_polygon(self.recon.r))
+        r = self.recon.frames(self.time)[1]
+        wr = writhe_turns(closed_polygon(r))
         lk = link_turns(self.lk0, self.theta[0], self.theta[1])
         h = self.hist
         for name, val in (("t", t), ("link", lk), ("twist", tw), ("writhe", wr), ("sites", sites),
                           ("overlap_over_D", overlap), ("contact_energy", e_contact),
                           ("energy", self._energy(y) - self.e0), ("work", sum(self.work.values()))):  # fmt: skip
             h[name].append(float(val))
-        self.shapes.append(self.recon.r.copy())
+        self.shapes.append(r.copy())
         gap, jump = lk - tw - wr, lk - tw - wr - self.last_gap
         self.last_gap = gap
         if passage(gap - jump, gap) and self.passage is None:
