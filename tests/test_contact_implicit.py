@@ -71,7 +71,7 @@ def test_the_jacobian_columns_are_the_derivative_of_the_contact_residual():
         up = u.copy()
         up[node, f] += h
         fd = (res(up)[0] - r0) / 1e-9  # per scaled unknown
-        assert np.allclose(fd, src.C[:, c], rtol=1e-5, atol=1e-6 * np.abs(src.C).max())
+        assert np.allclose(fd, src.C[c], rtol=1e-5, atol=1e-6 * np.abs(src.C).max())
     # momentum: the pair's forces sum to zero in the lab frame (the fixture takes the rest)
     R_new = rodrigues(0.5 * sp.dt * (u[:, 3:6] + W_OLD)) @ R
     f_lab = -np.einsum("nji,nj->ni", R_new, src.q[:, 0:3]) * weights[:, None]
@@ -128,7 +128,7 @@ def test_the_woodbury_solve_on_the_banded_factors_is_the_dense_solve():
                          con.yscale)  # fmt: skip
     assert src.cols.size > 0
     J = _dense(w)
-    J[:, src.cols] += src.C
+    J[:, src.cols] += src.C.T
     dx = np.empty_like(w.y)
     woodbury_solve(fac, w.r.copy(), src.C, src.cols, dx)
     assert np.allclose(dx.ravel(), np.linalg.solve(J, -w.r), rtol=1e-8, atol=1e-12)

@@ -203,8 +203,8 @@ def _forces(sp: StepParams, nodes, sigma, normal, dist, weight, V_old, V_new, f,
 
 class Source(NamedTuple):
     """The contact at one iterate: the source q (N+1, nf) of eq (7) at the new level, the
-    Jacobian columns ``C`` (rows of the scaled residual x 3m) on the scaled unknowns
-    ``cols`` (3m flat indices), and the largest predicted overlap, the stored energy and
+    Jacobian columns ``C`` (3m x rows of the scaled residual: one column per row) on the
+    scaled unknowns ``cols`` (3m flat indices), and the largest predicted overlap, the stored energy and
     the dashpots' power of the pairs."""
 
     q: np.ndarray
@@ -233,42 +233,60 @@ def contact_source(sp: StepParams, pairs: Pairs, R_old, V_old, w_old, y_new, wei
     on = slope > 1e-12
     if not want_jac or not on.any():
         return Source(q, np.zeros((0, 0)), np.zeros(0, np.int64), worst, energy, power, int(on.sum()))
-    law = sp.law
     nodes = np.unique(pairs.nodes[on][pairs.nodes[on] >= 0])
-    where = {int(b): m for m, b in enumerate(nodes)}
-    m3 = 3 * nodes.size
-    n_rows = nf * n1
-    C = np.zeros((n_rows, m3))
-    # dq_a / du_b = -R_a (df_a / dV_b) R_b^T / w_a, df_a/dV_b = -sig_a sig_b w (k g dt + c) n n^T
-    for p in np.nonzero(on)[0]:
-        stiff = law.stiffness * sp.g_t * sp.dt + law.damping
-        nn = np.outer(pairs.n[p], pairs.n[p]) * (-pairs.w[p] * slope[p] * stiff)
-        for a in range(4):
-            na = pairs.nodes[p, a]
-            if na < 0:
-                continue
-            for b in range(4):
-                nb = pairs.nodes[p, b]
-                if nb < 0:
-                    continue
-                blk = -(R[na] @ (pairs.sigma[p, a] * pairs.sigma[p, b] * nn) @ R[nb].T) / weights[na]
-                col = 3 * where[int(nb)]
-                # node na is the right node of cell na-1 and the left node of cell na
-                for cell, wt in ((na - 1, 1.0 - sp.b_s), (na, sp.b_s)):
-                    if 0 <= cell < n1 - 1:
-                        row = nbl + nf * cell
-                        C[row : row + 3, col : col + 3] += (1.0 - sp.b_t) * wt * blk
-    C[:, :] *= np.tile(yscale[0:3], nodes.size)[None, :]
-    C[: n_rows, :] /= _row_scale(rscale, nf, n1, nbl)[:, None]
+    where = np.full(n1, -1, np.int64)
+    where[nodes] = np.arange(nodes.size)
+    C = np.zeros((3 * nodes.size, nf * n1))
+    stiff = sp.law.stiffness * sp.g_t * sp.dt + sp.law.damping
+    _columns(sp, pairs.nodes, pairs.sigma, pairs.n, pairs.w, slope, stiff, R, weights, where,
+             nbl, rscale, yscale, C)  # fmt: skip
     cols = (nf * nodes[:, None] + np.arange(3)[None, :]).ravel()
     return Source(q, C, cols, worst, energy, power, int(on.sum()))
 
 
-def _row_scale(rscale, nf, n1, nbl):
-    """The scale of every row of the step's residual (boundary rows: 1, unused here)."""
-    s = np.ones(nf * n1)
-    s[nbl : nbl + nf * (n1 - 1)] = np.tile(rscale, n1 - 1)
-    return s
+@jit
+def _columns(sp: StepParams, nodes, sigma, normal, weight, slope, stiff, R, weights, where,
+             nbl, rscale, yscale, C):  # fmt: skip
+    """The Jacobian columns C[3 m + y] (one row per column) of (C2) on the velocities of
+    the nodes in contact (``where[b]`` = m), in the scaled rows and unknowns:
+    dq_a / du_b = -R_a (df_a / dV_b) R_b^T / w_a, entered in the cells a - 1 (weight
+    1 - b_s) and a (b_s) with 1 - b_t."""
+    n1, nf = R.shape[0], rscale.shape[0]
+    for p in range(nodes.shape[0]):
+        if slope[p] <= 1e-12:
+            continue
+        coef = weight[p] * slope[p] * stiff  # -df/dV = coef sig_a sig_b n n^T
+        for a in range(4):
+            na = nodes[p, a]
+            if na < 0:
+                continue
+            Rn_a = R[na] @ normal[p]
+            for b in range(4):
+                nb = nodes[p, b]
+                if nb < 0:
+                    continue
+                Rn_b = R[nb] @ normal[p]
+                g = coef * sigma[p, a] * sigma[p, b] / weights[na]  # dq_a/du_b = g Rn_a Rn_b^T
+                col = 3 * where[nb]
+                for side in range(2):
+                    cell = na - 1 + side
+                    if cell < 0 or cell >= n1 - 1:
+                        continue
+                    wt = (1.0 - sp.b_t) * ((1.0 - sp.b_s) if side == 0 else sp.b_s)
+                    row = nbl + nf * cell
+                    for x in range(3):
+                        for y in range(3):
+                            C[col + y, row + x] += wt * g * Rn_a[x] * Rn_b[y] * yscale[y] / rscale[x]
+
+
+@jit
+def _solve_columns(fac, C, Z):
+    """Z[c] = J^{-1} C[c] for every column c, with the banded factors of J."""
+    for c in range(C.shape[0]):
+        solve_neg(fac, C[c], Z[c])
+        for j in range(Z.shape[1]):
+            for f in range(Z.shape[2]):
+                Z[c, j, f] = -Z[c, j, f]
 
 
 def add_to_residual(r, q_new, sp: StepParams, nf, nbl, rscale) -> None:
@@ -285,11 +303,9 @@ def woodbury_solve(fac, r, C, cols, out) -> None:
     if cols.size == 0:
         return
     m = cols.size
-    Z = np.empty((m, out.size))
-    tmp = np.empty_like(out)
-    for c in range(m):
-        solve_neg(fac, np.ascontiguousarray(C[:, c]), tmp)
-        Z[c] = -tmp.ravel()  # J^{-1} C[:, c]
+    Z3 = np.empty((m,) + out.shape)
+    _solve_columns(fac, C, Z3)  # Z[c] = J^{-1} C[c]
+    Z = Z3.reshape(m, -1)
     z = out.ravel()
     small = np.eye(m) + Z[:, cols].T
     corr = np.linalg.solve(small, z[cols])
