@@ -3,9 +3,16 @@ its numbers), :class:`ContactScene` (a :class:`~dyntorsion.buckling.scene.Scene`
 contact, keyed by the scene's key plus ``"contact"``: scenes without contact keep their
 keys and records) and :func:`run_contact_scene`.
 
-The run is the scene's (same rod, ends, twist, load, seed, scheme, Newton solve) through
-the same engine, :func:`dyntorsion.genalpha.integrate`, with two additions made between
-steps, where the engine consults its stop test (every step):
+**Implicit (the default, ``Contact.implicit``).**  The contact inside the implicit step,
+on the time route of the centreline (:mod:`.implicit`), marched by :mod:`.marching` with
+the engine's kernels of one step: steps of the scene's dt while no pair can touch within
+one, substeps of at most ``max_step`` while some can.  Between steps the same bookkeeping
+as below (rebuild, law for the reported overlap, energy, topology) on the time route.
+
+**Lagged (``implicit=False``, the first cut).**  The run is the scene's (same rod, ends,
+twist, load, seed, scheme, Newton solve) through the same engine,
+:func:`dyntorsion.genalpha.integrate`, with two additions made between steps, where the
+engine consults its stop test (every step):
 
 * the shape is rebuilt from the 12 fields (:mod:`.centreline`) and the contact law
   (:mod:`.law`) evaluated on it; its nodal forces, in body components per unit length
@@ -59,7 +66,10 @@ class PassageError(RuntimeError):
 class Contact:
     """The contact law of :mod:`.law` and how the run applies it.
 
-    stiffness : k [N/m^2], per unit length of rod, > 0.
+    stiffness : k [N/m^2], per unit length of rod, > 0.  Default 5e7: an undamped spring
+        holds an approach at v to 1 % of D when k >= rho A (v / 0.01 D)^2; the loop of the
+        a = 16 scene closes at 1.05-1.23 m/s (N = 50-200), i.e. k >= 1.3e7-1.8e7 (2e7
+        measured 1.04 % D at N = 200).
     damping : zeta, damping ratio of the contact oscillator, c = 2 zeta sqrt(k rho A), >= 0.
     min_arc : arc-length gap below which parts never touch, in diameters, >= 1.
     fixtures : the axis beyond both ends is an obstacle (see :mod:`.law`).
@@ -75,7 +85,7 @@ class Contact:
     check : interval of the topology check and of the recorded histories [s], > 0.
     """
 
-    stiffness: float = 2000.0
+    stiffness: float = 5e7
     damping: float = 0.5
     min_arc: float = 3.0
     fixtures: bool = True
