@@ -56,9 +56,8 @@ Jacobian of the step, solved by the banded LU and the Woodbury identity
 
 from __future__ import annotations
 
-from typing import NamedTuple
-
 import math
+from typing import NamedTuple
 
 import numpy as np
 from scipy.spatial import cKDTree
@@ -236,7 +235,9 @@ def contact_source(sp: StepParams, pairs: Pairs, R_old, V_old, w_old, y_new, wei
     q[:, 0:3] = -np.einsum("nij,nj->ni", R, f) / weights[:, None]
     on = slope > SLOPE_MIN
     if not want_jac or not on.any():
-        return Source(q, np.zeros((0, 0)), np.zeros(0, np.int64), worst, energy, power, int(on.sum()))
+        return Source(
+            q, np.zeros((0, 0)), np.zeros(0, np.int64), worst, energy, power, int(on.sum())
+        )
     nodes = np.unique(pairs.nodes[on][pairs.nodes[on] >= 0])
     where = np.full(n1, -1, np.int64)
     where[nodes] = np.arange(nodes.size)
@@ -280,7 +281,9 @@ def _columns(sp: StepParams, nodes, sigma, normal, weight, slope, stiff, R, weig
                     row = nbl + nf * cell
                     for x in range(3):
                         for y in range(3):
-                            C[col + y, row + x] += wt * g * Rn_a[x] * Rn_b[y] * yscale[y] / rscale[x]
+                            C[col + y, row + x] += (
+                                wt * g * Rn_a[x] * Rn_b[y] * yscale[y] / rscale[x]
+                            )
 
 
 @jit

@@ -59,7 +59,9 @@ def _prepare(F, con, w, qs, q_old, q_new):
     prepare_step(F, con, w, qs, 1.0, 1.0, q_old, q_new, True)
 
 
-@jit(signature=numba.types.Tuple((numba.float64, _I))(_F, _DF, CONSTANTS, A1, A1, WORK, _abd.FACTORS))
+@jit(
+    signature=numba.types.Tuple((numba.float64, _I))(_F, _DF, CONSTANTS, A1, A1, WORK, _abd.FACTORS)
+)
 def _residual_factor(F, dF, con, gL, gR, w, fac):
     """The residual w.r at w.y (its RMS) and the LU factors of the banded Jacobian (the
     column of a zero pivot, or -1)."""
@@ -93,6 +95,18 @@ class Marched:
     contact_seconds: float = 0.0
     free_seconds: float = 0.0
     largest_predicted_overlap: float = 0.0
+
+    def cost(self, diameter: float) -> dict[str, float]:
+        """What the implicit contact cost: steps with contact candidates, their Newton
+        iterations, wall time per step with and without, the largest predicted overlap."""
+        free = max(self.steps - self.contact_steps, 1)
+        return {
+            "contact_steps": self.contact_steps,
+            "contact_newton_iterations": self.contact_iterations,
+            "seconds_per_contact_step": self.contact_seconds / max(self.contact_steps, 1),
+            "seconds_per_free_step": self.free_seconds / free,
+            "largest_predicted_overlap_over_D": self.largest_predicted_overlap / diameter,
+        }
 
 
 def _contact_newton(system, con, w, fac, gL, gR, sp, pairs, R, V_old, weights, opts):
@@ -161,7 +175,9 @@ def march_implicit(between, system, scheme, newton, grid, y0, left, right, q_see
     rate0 = initial_rate(system, y0, ds, "consistent", src0, grid.t0)
     _, w, fac = setup(system, scheme, n1 - 1, ds, grid.dt, left, right, y0, rate0)
     whole = _Level(system, scheme, ds, grid.dt, left, right, between.law, between.c.smooth)
-    part = _Level(system, scheme, ds, grid.dt / substeps, left, right, between.law, between.c.smooth)
+    part = _Level(
+        system, scheme, ds, grid.dt / substeps, left, right, between.law, between.c.smooth
+    )
     opts = newton.options()
     retry = opts._replace(reuse=False, rate_predictor=not opts.rate_predictor)
     weights, recon = between.weights, between.recon

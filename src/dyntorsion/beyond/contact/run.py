@@ -3,16 +3,11 @@ its numbers), :class:`ContactScene` (a :class:`~dyntorsion.buckling.scene.Scene`
 contact, keyed by the scene's key plus ``"contact"``: scenes without contact keep their
 keys and records) and :func:`run_contact_scene`.
 
-**Implicit (the default, ``Contact.implicit``).**  The contact inside the implicit step,
-on the time route of the centreline (:mod:`.implicit`), marched by :mod:`.marching` with
-the engine's kernels of one step: steps of the scene's dt while no pair can touch within
-one, substeps of at most ``max_step`` while some can.  Between steps the same bookkeeping
-as below (rebuild, law for the reported overlap, energy, topology) on the time route.
-
-**Lagged (``implicit=False``, the first cut).**  The run is the scene's (same rod, ends,
-twist, load, seed, scheme, Newton solve) through the same engine,
-:func:`dyntorsion.genalpha.integrate`, with two additions made between steps, where the
-engine consults its stop test (every step):
+**Implicit (default).**  The contact inside the implicit step on the time route of the
+centreline (:mod:`.implicit`), marched by :mod:`.marching`; between steps the bookkeeping
+below (rebuild, law for the reported overlap, energy, topology) on that route.
+**Lagged (``implicit=False``, the first cut).**  The scene's run through the engine,
+:func:`dyntorsion.genalpha.integrate`, with two additions made between steps:
 
 * the shape is rebuilt from the 12 fields (:mod:`.centreline`) and the contact law
   (:mod:`.law`) evaluated on it; its nodal forces, in body components per unit length
@@ -51,8 +46,8 @@ from ...genalpha.guard import real
 from ...model.cosserat import Cosserat
 from .centreline import Reconstruction
 from .damped import damped_system
-from .marching import march_implicit
 from .law import NO_CONTACT, LawParams, contact_forces, contact_sites, lag_cost
+from .marching import march_implicit
 from .topology import closed_polygon, link_turns, passage, twist_turns, writhe_turns
 
 __all__ = ["Contact", "ContactScene", "ContactRun", "PassageError", "run_contact_scene"]
@@ -66,10 +61,8 @@ class PassageError(RuntimeError):
 class Contact:
     """The contact law of :mod:`.law` and how the run applies it.
 
-    stiffness : k [N/m^2], per unit length of rod, > 0.  Default 5e7: an undamped spring
-        holds an approach at v to 1 % of D when k >= rho A (v / 0.01 D)^2; the loop of the
-        a = 16 scene closes at 1.05-1.23 m/s (N = 50-200), i.e. k >= 1.3e7-1.8e7 (2e7
-        measured 1.04 % D at N = 200).
+    stiffness : k [N/m^2], per unit length of rod, > 0; 5e7 holds the a = 16 loop's
+        approach (1.05-1.23 m/s) to 1 % D (k >= rho A (v / 0.01 D)^2; 2e7 gave 1.04 %).
     damping : zeta, damping ratio of the contact oscillator, c = 2 zeta sqrt(k rho A), >= 0.
     min_arc : arc-length gap below which parts never touch, in diameters, >= 1.
     fixtures : the axis beyond both ends is an obstacle (see :mod:`.law`).
@@ -331,6 +324,22 @@ class _Between:
             self.worst_gap = max(self.worst_gap, abs(gap))
 
 
+def _lagged(between, system, scene, grid, y0, left, right, q_seed, check_every):
+    """The lagged route through the engine (module docstring): the run and how it ended."""
+    try:
+        run = integrate(
+            system, grid, y0=y0, left=left, right=right, scheme=scene.scheme,
+            newton=scene.newton, sources=Sources(separable=(q_seed, None), field=between.field),
+            output=Output(record=RECORDED, every=check_every, progress=False),
+            stops=Stops(test=between, check_every=1),
+        )  # fmt: skip
+        return run, run.stopped
+    except ConvergenceError as err:
+        if err.run is None:
+            raise
+        return err.run, f"failed: {err}"
+
+
 def run_contact_scene(
     cs: ContactScene, t_end: float | None = None, *, time_route: bool = False
 ) -> ContactRun:
@@ -359,26 +368,14 @@ def run_contact_scene(
     q_seed = model.external_force(scene.seed.force(s, rod.L))
     check_every = max(1, int(round(cs.contact.check / dt)))
     between = _Between(cs, model, y0, rod.L / n, dt, q_seed, check_every, time_route)
-    stopped = "t_end"
     if c.implicit:
-        run = march_implicit(between, system, scene.scheme, scene.newton,
-                             Grid(n, rod.L, scene.dt, t_end), y0, left, right, q_seed,
-                             cs.substeps())  # fmt: skip
+        grid = Grid(n, rod.L, scene.dt, t_end)
+        run = march_implicit(between, system, scene.scheme, scene.newton, grid, y0, left, right,
+                             q_seed, cs.substeps())  # fmt: skip
         stopped = run.stopped
-    try:
-        run = run if c.implicit else integrate(
-            system, Grid(n, rod.L, dt, t_end), y0=y0, left=left, right=right,
-            scheme=scene.scheme, newton=scene.newton,
-            sources=Sources(separable=(q_seed, None), field=between.field),
-            output=Output(record=RECORDED, every=check_every, progress=False),
-            stops=Stops(test=between, check_every=1),
-        )  # fmt: skip
-        stopped = run.stopped
-    except ConvergenceError as err:
-        if err.run is None:
-            raise
-        run = err.run
-        stopped = f"failed: {err}"
+    else:
+        run, stopped = _lagged(between, system, scene, Grid(n, rod.L, dt, t_end), y0, left,
+                               right, q_seed, check_every)  # fmt: skip
     between.finish(run.y, stopped == "t_end" and not c.implicit)
     h = {k: np.asarray(v) for k, v in between.hist.items()}
     work = between.work
@@ -417,11 +414,5 @@ def run_contact_scene(
         "wall_time": time.perf_counter() - wall,
     }
     if c.implicit:
-        summary["implicit"] = {
-            "contact_steps": run.contact_steps,
-            "contact_newton_iterations": run.contact_iterations,
-            "seconds_per_contact_step": run.contact_seconds / max(run.contact_steps, 1),
-            "seconds_per_free_step": run.free_seconds / max(run.steps - run.contact_steps, 1),
-            "largest_predicted_overlap_over_D": run.largest_predicted_overlap / rod.thickness,
-        }
+        summary["implicit"] = run.cost(rod.thickness)
     return ContactRun(cs, run, h, summary)
