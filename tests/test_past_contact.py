@@ -168,17 +168,25 @@ def test_bad_contact_numbers_are_refused_by_name(kwargs, word):
         Contact(**kwargs)
 
 
-def test_before_contact_link_equals_twist_and_the_shape_stays_consistent():
+@pytest.mark.parametrize("implicit", [True, False])
+def test_before_contact_link_equals_twist_and_the_shape_stays_consistent(implicit):
     """The straight twisted rod before buckling: Wr = 0, Lk = Tw to round-off, the energy
-    budget closed (no contact yet) and the rebuilt centreline on the axis."""
+    budget closed (no contact yet) and the rebuilt centreline on the axis.  The implicit
+    route takes the writhe on the time route, whose round-off grows step by step (1.5e-9
+    turns measured at 0.2 s)."""
     scene = Scene(a=16.0, kappa0=10.0, t_end=0.2, n_cells=50, dt=0.01)
-    res = run_contact_scene(ContactScene(scene, Contact(stiffness=200.0)), time_route=True).result()
+    res = run_contact_scene(
+        ContactScene(scene, Contact(stiffness=200.0, implicit=implicit)), time_route=True
+    ).result()
     assert res["stopped"] == "t_end" and res["first_contact_t"] is None
     assert res["twist_turns"] == pytest.approx(
         (10.0 + 16.0 * res["t_last"]) / (2 * np.pi), rel=0.02
     )
-    assert abs(res["writhe_turns"]) < 1e-9 and res["max_link_gap_turns"] < 1e-9
-    assert abs(res["energy_residual"]) < 1e-6
+    bound = 1e-8 if implicit else 1e-9
+    assert abs(res["writhe_turns"]) < bound and res["max_link_gap_turns"] < bound
+    # the budget's trapezoidal powers: implicit in the scene's whole steps of 0.01 s
+    # (3.2e-4 of the work measured), lagged in steps of 1.2e-3 s (omega_c dt <= 0.5)
+    assert abs(res["energy_residual"]) < (1e-3 if implicit else 1e-6)
     assert max(res["drift"].values()) < 1e-6
 
 
