@@ -26,6 +26,12 @@ def add_contact_options(b: argparse.ArgumentParser) -> None:
                    help=f"penalty stiffness per length k [N/m^2] (default {d.stiffness:g})")  # fmt: skip
     g.add_argument("--contact-damping", type=float, default=d.damping,
                    help=f"damping ratio of the contact (default {d.damping:g})")  # fmt: skip
+    g.add_argument("--contact-max-step", type=float, default=d.max_step,
+                   help="implicit contact: the longest step near contact [s] (default "
+                   f"{d.max_step:g}; the scene's step elsewhere)")  # fmt: skip
+    g.add_argument("--contact-lagged", action="store_true",
+                   help="the contact lagged one step (the first cut; step cut to "
+                   "omega_c dt <= 0.5) instead of inside the implicit step")  # fmt: skip
     g.add_argument("--viscous", type=float, default=0.0,
                    help="linear viscous damping of the velocity per length [N s/m^2] (default 0)")  # fmt: skip
     b.add_argument("--json", action="store_true", help="print the result as one JSON object")
@@ -37,8 +43,9 @@ def buckle_contact(args: argparse.Namespace, scene: Scene) -> int:
     if args.t_end is None:
         raise ValueError("--contact needs --t-end T [s]: how long to follow the rod past contact")
     contact = Contact(
-        stiffness=args.contact_stiffness, damping=args.contact_damping, viscous=args.viscous
-    )
+        stiffness=args.contact_stiffness, damping=args.contact_damping, viscous=args.viscous,
+        implicit=not args.contact_lagged, max_step=args.contact_max_step,
+    )  # fmt: skip
     result = run_contact_scene(ContactScene(scene, contact)).result()
     if args.json:
         print(result_json(result))

@@ -14,7 +14,11 @@ the rest of the 12 fields, measured two ways (:class:`Drift`):
   R(L) R(L, 0)^T [rad];
 * the time route (eqs 17-19, 21), :class:`dyntorsion.shapes.FrameTracker`, advanced from
   the same initial shape with the spins and velocities of every step: ``time_route`` =
-  max_j |r_space - r_time| / L.
+  max_j |r_space - r_time| / L, and ``tangent`` = max_j |(r_{j+1} - r_j) / ds - d3_{j+1/2}|
+  on the time route (r' = d3 there, d3 the mean of its nodes' frames).
+
+The implicit contact (:mod:`.implicit`) acts on the time route: its positions are those
+the velocities move, so the contact holds there (:meth:`Reconstruction.frames`).
 """
 
 from __future__ import annotations
@@ -35,12 +39,14 @@ class Drift:
     end_offset: float = 0.0
     end_angle: float = 0.0
     time_route: float = 0.0
+    tangent: float = 0.0
 
     def as_dict(self) -> dict[str, float]:
         return {
             "end_offset_over_L": self.end_offset,
             "end_angle": self.end_angle,
             "time_route_over_L": self.time_route,
+            "time_route_tangent": self.tangent,
         }
 
 
@@ -83,12 +89,21 @@ class Reconstruction:
             self.tracker.step(self._y_old[:, w], y[:, w], self._y_old[:, u], y[:, u], dt)
             gap = np.max(np.linalg.norm(self.tracker.r - self.r, axis=1)) / self.length
             d.time_route = max(d.time_route, float(gap))
+            # r' = d3 on the time route: each chord against the mean d3 of its two nodes
+            chord = np.diff(self.tracker.r, axis=0) / self.ds
+            d3 = 0.5 * (self.tracker.R[1:, 2, :] + self.tracker.R[:-1, 2, :])
+            d.tangent = max(d.tangent, float(np.max(np.linalg.norm(chord - d3, axis=1))))
         self._y_old = y.copy()
 
-    def velocities(self, y: np.ndarray) -> np.ndarray:
-        """Inertial velocities of the nodes, R^T u (N+1, 3)."""
-        return np.einsum("nji,nj->ni", self.R, np.asarray(y)[:, self.u : self.u + 3])
+    def frames(self, time: bool = False) -> tuple[np.ndarray, np.ndarray]:
+        """(R, r) of the spatial route, or with ``time`` of the time route."""
+        return (self.tracker.R, self.tracker.r) if time else (self.R, self.r)
 
-    def to_body(self, v: np.ndarray) -> np.ndarray:
+    def velocities(self, y: np.ndarray, time: bool = False) -> np.ndarray:
+        """Inertial velocities of the nodes, R^T u (N+1, 3) (``time``: the time route's R)."""
+        R = self.frames(time)[0]
+        return np.einsum("nji,nj->ni", R, np.asarray(y)[:, self.u : self.u + 3])
+
+    def to_body(self, v: np.ndarray, time: bool = False) -> np.ndarray:
         """Body components R v of inertial vectors v (N+1, 3)."""
-        return np.einsum("nij,nj->ni", self.R, v)
+        return np.einsum("nij,nj->ni", self.frames(time)[0], v)

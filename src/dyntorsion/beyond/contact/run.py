@@ -3,9 +3,11 @@ its numbers), :class:`ContactScene` (a :class:`~dyntorsion.buckling.scene.Scene`
 contact, keyed by the scene's key plus ``"contact"``: scenes without contact keep their
 keys and records) and :func:`run_contact_scene`.
 
-The run is the scene's (same rod, ends, twist, load, seed, scheme, Newton solve) through
-the same engine, :func:`dyntorsion.genalpha.integrate`, with two additions made between
-steps, where the engine consults its stop test (every step):
+**Implicit (default).**  The contact inside the implicit step on the time route of the
+centreline (:mod:`.implicit`), marched by :mod:`.marching`; between steps the bookkeeping
+below (rebuild, law for the reported overlap, energy, topology) on that route.
+**Lagged (``implicit=False``, the first cut).**  The scene's run through the engine,
+:func:`dyntorsion.genalpha.integrate`, with two additions made between steps:
 
 * the shape is rebuilt from the 12 fields (:mod:`.centreline`) and the contact law
   (:mod:`.law`) evaluated on it; its nodal forces, in body components per unit length
@@ -45,6 +47,7 @@ from ...model.cosserat import Cosserat
 from .centreline import Reconstruction
 from .damped import damped_system
 from .law import NO_CONTACT, LawParams, contact_forces, contact_sites, lag_cost
+from .marching import march_implicit
 from .topology import closed_polygon, link_turns, passage, twist_turns, writhe_turns
 
 __all__ = ["Contact", "ContactScene", "ContactRun", "PassageError", "run_contact_scene"]
@@ -58,17 +61,24 @@ class PassageError(RuntimeError):
 class Contact:
     """The contact law of :mod:`.law` and how the run applies it.
 
-    stiffness : k [N/m^2], per unit length of rod, > 0.
+    stiffness : k [N/m^2], per unit length of rod, > 0; 5e7 holds the a = 16 loop's
+        approach (1.05-1.23 m/s) to 1 % D (k >= rho A (v / 0.01 D)^2; 2e7 gave 1.04 %).
     damping : zeta, damping ratio of the contact oscillator, c = 2 zeta sqrt(k rho A), >= 0.
     min_arc : arc-length gap below which parts never touch, in diameters, >= 1.
     fixtures : the axis beyond both ends is an obstacle (see :mod:`.law`).
     viscous, viscous_moment : linear damping per length of the velocity [N s/m^2] and of
         the spin [N s], >= 0 (0: none).
     stability : omega_c dt_run <= stability (the lagged penalty's step), in (0, 2].
+    implicit : the contact inside the implicit step (:mod:`.implicit`, :mod:`.marching`);
+        False: lagged one step (the first cut).
+    max_step : implicit: dt_run = scene.dt / m <= max_step [s], > 0 (an accuracy bound:
+        the implicit law is stable at any step).
+    smooth : implicit: the clip of the law smoothed over a force of ``smooth`` k D
+        (:mod:`.implicit`, C3), in (0, 1].
     check : interval of the topology check and of the recorded histories [s], > 0.
     """
 
-    stiffness: float = 2000.0
+    stiffness: float = 5e7
     damping: float = 0.5
     min_arc: float = 3.0
     fixtures: bool = True
@@ -76,13 +86,17 @@ class Contact:
     viscous_moment: float = 0.0
     stability: float = 0.5
     check: float = 0.01
+    implicit: bool = True
+    max_step: float = 2.5e-4
+    smooth: float = 1e-3
 
     def __post_init__(self) -> None:
         for name, lo, strict, hi in (
             ("stiffness", 0.0, True, math.inf), ("damping", 0.0, False, math.inf),
             ("min_arc", 1.0, False, math.inf), ("viscous", 0.0, False, math.inf),
             ("viscous_moment", 0.0, False, math.inf), ("stability", 0.0, True, 2.0),
-            ("check", 0.0, True, math.inf),
+            ("check", 0.0, True, math.inf), ("max_step", 0.0, True, math.inf),
+            ("smooth", 0.0, True, 1.0),
         ):  # fmt: skip
             v = real(name, getattr(self, name))
             if not ((v > lo if strict else v >= lo) and v <= hi):
@@ -91,6 +105,7 @@ class Contact:
                 raise ValueError(f"contact {name}={v!r} must be {low}{high}")
             object.__setattr__(self, name, float(v))
         object.__setattr__(self, "fixtures", bool(self.fixtures))
+        object.__setattr__(self, "implicit", bool(self.implicit))
 
     def params(self) -> dict[str, Any]:
         return asdict(self)
@@ -127,7 +142,10 @@ class ContactScene:
         return {**self.scene.params(), "contact": self.contact.params()}
 
     def substeps(self) -> int:
-        """m: dt_run = scene.dt / m, the smallest with omega_c dt_run <= stability."""
+        """m: dt_run = scene.dt / m, the smallest with omega_c dt_run <= stability (lagged)
+        or dt_run <= max_step (implicit)."""
+        if self.contact.implicit:
+            return max(1, math.ceil(self.scene.dt / self.contact.max_step - 1e-12))
         w = self.contact.omega(self.scene.rod.mass_per_length)
         return max(1, math.ceil(w * self.scene.dt / self.contact.stability - 1e-12))
 
@@ -175,7 +193,10 @@ class _Between:
         self.model, self.ds, self.dt, self.rod = model, ds, dt, rod
         self.law = cs.contact.law(rod, ds)
         self.q_seed, self.f_seed = q_seed, -q_seed[:, 0:3]
-        self.recon = Reconstruction(y0, ds, rod.L, time_route=time_route)
+        #: the implicit contact acts on the time route (:mod:`.centreline`): the geometry of
+        #: the law, the writhe and the shapes; the lagged one on the spatial route
+        self.time = cs.contact.implicit
+        self.recon = Reconstruction(y0, ds, rod.L, time_route=time_route or self.time)
         n1 = y0.shape[0]
         self.weights = np.full(n1, ds)
         self.weights[[0, -1]] = 0.5 * ds
@@ -227,10 +248,15 @@ class _Between:
             self.q.pop(key - 3, None)
         return self.q[key]
 
-    def __call__(self, t: float, y: np.ndarray) -> str | None:
-        """The engine's stop test at the level t, y: rebuild, contact, source, topology."""
+    def __call__(self, t: float, y: np.ndarray, dt: float | None = None,
+                 check: bool | None = None) -> str | None:  # fmt: skip
+        """The engine's stop test at the level t, y: rebuild, contact, source, topology.
+        ``dt`` the step that reached it (default the run's), ``check`` whether to take the
+        topology there (default every ``check_every`` calls)."""
         self.k += 1
         y = np.asarray(y)
+        if dt is not None:
+            self.dt = dt
         self.recon.update(y, self.dt)
         self.theta[0] += 0.5 * self.dt * (y[0, 5] + self.y_old[0, 5])
         self.theta[1] += 0.5 * self.dt * (y[-1, 5] + self.y_old[-1, 5])
@@ -239,12 +265,13 @@ class _Between:
         dw = 0.5 * self.dt * (self.power_old + p_new)
         for name, v in zip(("ends", "seed", "contact", "viscous"), dw, strict=True):
             self.work[name] += float(v)
-        v = self.recon.velocities(y)
+        v = self.recon.velocities(y, self.time)
+        r_law = self.recon.frames(self.time)[1]
         if self.ds * np.sum(np.hypot(y[:, 6], y[:, 7])) < STRAIGHT:
             cf = NO_CONTACT._replace(force=np.zeros_like(v))  # no part can reach another
         else:
-            cf = contact_forces(self.law, self.recon.r, v, self.c.fixtures)
-        f_body = self.recon.to_body(cf.force) / self.weights[:, None]
+            cf = contact_forces(self.law, r_law, v, self.c.fixtures)
+        f_body = self.recon.to_body(cf.force, self.time) / self.weights[:, None]
         q = np.zeros_like(self.pending)
         q[:, 0:3] = -f_body
         self.pending = q
@@ -258,7 +285,7 @@ class _Between:
         self.max_sites = max(self.max_sites, self.sites)
         if cf.pairs and self.first_contact_t is None:
             self.first_contact_t = float(t)
-        if self.k % self.check_every == 0:
+        if (self.k % self.check_every == 0) if check is None else check:
             self._topology(t, y, self.sites, overlap, cf.energy)
             if self.passage is not None:
                 return self.passage
@@ -276,14 +303,15 @@ class _Between:
 
     def _topology(self, t, y, sites, overlap, e_contact=0.0) -> None:
         tw = twist_turns(y[:, 8], self.ds)
-        wr = writhe_turns(closed_polygon(self.recon.r))
+        r = self.recon.frames(self.time)[1]
+        wr = writhe_turns(closed_polygon(r))
         lk = link_turns(self.lk0, self.theta[0], self.theta[1])
         h = self.hist
         for name, val in (("t", t), ("link", lk), ("twist", tw), ("writhe", wr), ("sites", sites),
                           ("overlap_over_D", overlap), ("contact_energy", e_contact),
                           ("energy", self._energy(y) - self.e0), ("work", sum(self.work.values()))):  # fmt: skip
             h[name].append(float(val))
-        self.shapes.append(self.recon.r.copy())
+        self.shapes.append(r.copy())
         gap, jump = lk - tw - wr, lk - tw - wr - self.last_gap
         self.last_gap = gap
         if passage(gap - jump, gap) and self.passage is None:
@@ -294,6 +322,22 @@ class _Between:
             )
         else:  # the drift of the reconstruction, where no passage intervened
             self.worst_gap = max(self.worst_gap, abs(gap))
+
+
+def _lagged(between, system, scene, grid, y0, left, right, q_seed, check_every):
+    """The lagged route through the engine (module docstring): the run and how it ended."""
+    try:
+        run = integrate(
+            system, grid, y0=y0, left=left, right=right, scheme=scene.scheme,
+            newton=scene.newton, sources=Sources(separable=(q_seed, None), field=between.field),
+            output=Output(record=RECORDED, every=check_every, progress=False),
+            stops=Stops(test=between, check_every=1),
+        )  # fmt: skip
+        return run, run.stopped
+    except ConvergenceError as err:
+        if err.run is None:
+            raise
+        return err.run, f"failed: {err}"
 
 
 def run_contact_scene(
@@ -324,22 +368,15 @@ def run_contact_scene(
     q_seed = model.external_force(scene.seed.force(s, rod.L))
     check_every = max(1, int(round(cs.contact.check / dt)))
     between = _Between(cs, model, y0, rod.L / n, dt, q_seed, check_every, time_route)
-    stopped = "t_end"
-    try:
-        run = integrate(
-            system, Grid(n, rod.L, dt, t_end), y0=y0, left=left, right=right,
-            scheme=scene.scheme, newton=scene.newton,
-            sources=Sources(separable=(q_seed, None), field=between.field),
-            output=Output(record=RECORDED, every=check_every, progress=False),
-            stops=Stops(test=between, check_every=1),
-        )  # fmt: skip
+    if c.implicit:
+        grid = Grid(n, rod.L, scene.dt, t_end)
+        run = march_implicit(between, system, scene.scheme, scene.newton, grid, y0, left, right,
+                             q_seed, cs.substeps())  # fmt: skip
         stopped = run.stopped
-    except ConvergenceError as err:
-        if err.run is None:
-            raise
-        run = err.run
-        stopped = f"failed: {err}"
-    between.finish(run.y, stopped == "t_end")
+    else:
+        run, stopped = _lagged(between, system, scene, Grid(n, rod.L, dt, t_end), y0, left,
+                               right, q_seed, check_every)  # fmt: skip
+    between.finish(run.y, stopped == "t_end" and not c.implicit)
     h = {k: np.asarray(v) for k, v in between.hist.items()}
     work = between.work
     w_in = work["ends"] + work["seed"]
@@ -376,4 +413,6 @@ def run_contact_scene(
         "drift": between.recon.drift.as_dict(),
         "wall_time": time.perf_counter() - wall,
     }
+    if c.implicit:
+        summary["implicit"] = run.cost(rod.thickness)
     return ContactRun(cs, run, h, summary)

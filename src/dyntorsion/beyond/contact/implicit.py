@@ -1,0 +1,323 @@
+"""The contact law of :mod:`.law` inside the implicit step: force and Jacobian at the new
+level as functions of the new velocity fields (issue 33, item 2).
+
+**Positions at the new level.**  The contact acts on the time route of the centreline
+(:mod:`.centreline`, :class:`dyntorsion.shapes.FrameTracker`, eqs 17-21): frames and
+positions of every node advanced by its own spin and velocity,
+
+    R^i = exp(-hat(dt (w^{i-1} + w^i) / 2)) R^{i-1},
+    r^i = r^{i-1} + dt (V^{i-1} + V^i) / 2,    V = R^T u,                             (C1)
+
+so a contact force depends on the unknowns u^i, w^i of the four nodes of its two
+segments only, and the positions the law sees are those the velocities move (the spatial
+route, rebuilt from the curvatures, drifts from them by more than a diameter in the whip
+at N <= 200: a = 16, N = 200, 2.3 cm at the far end by t = 3.3 s, and a contact held on
+one route passed through on the other).  The Jacobian keeps R^i of the iterate fixed
+(the rotation's dependence on w^i, O(dt |w|) relative, is left to the iteration).
+
+**Law, linearised in the step.**  For a pair of segments found near at the known level
+(a k-d tree of segment midpoints, radius ds + D + travel), the closest points a(s), b(t)
+and the unit normal n = (a - b) / |a - b| are those of the known level and stay fixed
+during the step; the gap at the new level is n . (a^i - b^i) with a^i, b^i from (C1).
+The force on segment a is that of :mod:`.law` on this gap,
+
+    F = w ramp(k delta - c v_n) n,    delta = D - n . (a^i - b^i),   v_n = n . (V_a^i - V_b^i),
+
+shared by the linear weights (1 - s, s) and (-(1 - t), -t) among the four nodes, w the
+law's weight (ds, halved at a segment's end node), with the clip max(0, x) of the law
+smoothed,
+
+    ramp(x) = 0 (x <= -eps),  (x + eps)^2 / (4 eps) (|x| < eps),  x (x >= eps),     (C3)
+
+eps = k D ``smooth``, the force of an overlap of ``smooth`` D (1e-3): no force at a gap
+beyond ``smooth`` D at rest (at a gap below (eps + c |v_n|) / k while approaching; with
+k = 5e7 N/m^2, c = 240 N s/m^2 at 1 m/s, 0.6 % of D).  A rounding by
+(x + sqrt(x^2 + eps^2)) / 2 reached every candidate pair and did 0.5 % of the work of the
+ends before any contact (a = 16, N = 50).  The clip's kink made
+Newton cycle between the pressing and the lifting piece (measured: a = 16, N = 200,
+t = 3.2 s, 30 iterations alternating).  With the normal fixed the argument x is
+linear in u^i and the Jacobian exact:
+
+    dF / dV_b = -w ramp'(x) (k dt / 2 + c) n n^T sigma_b                         (C2)
+
+(sigma_b the weight of node b).  A normal fixed over the step cannot be crossed: the rod
+cannot pass through itself within a step that starts on the right side, whatever the
+step, as the spatial normal of the lagged law could (it flips when the centrelines cross).
+
+**Source of eq (7).**  The nodal forces f_a (inertial) enter the linear momentum balance
+as q_a = -R_a f_a / w_a (body components per unit length, w_a = ds, ds/2 at the ends) at
+the new level, with the box scheme's weights (1 - b_t) and, within a cell,
+(1 - b_s, b_s) on its right and left node.  Their Jacobian (C2) has nonzero columns only
+on the velocities of the nodes in contact: 3 m columns (m nodes) added to the banded
+Jacobian of the step, solved by the banded LU and the Woodbury identity
+
+    (J + C E^T)^{-1} b = z - Z (I + E^T Z)^{-1} E^T z,    z = J^{-1} b,  Z = J^{-1} C,
+
+3 m more banded solves and one dense 3m x 3m solve per factorisation.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from ... import shapes
+from ..._numba import jit
+from ...genalpha.discrete import solve_neg
+from .law import LawParams, _closest, _share
+
+__all__ = ["StepParams", "Pairs", "candidates", "contact_source", "woodbury_solve"]
+
+
+class StepParams(NamedTuple):
+    """What the implicit law of one step reads: the law and the step's scheme numbers."""
+
+    law: LawParams
+    dt: float
+    g_t: float  # (C1): r^i = r^{i-1} + dt [(1 - g_t) V^{i-1} + g_t V^i], g_t = 1/2
+    b_t: float  # weight of the old level in the cell residual
+    b_s: float  # weight of the left node in the cell residual
+    smooth: float  # (C3): eps = k D smooth
+
+
+class Pairs(NamedTuple):
+    """The candidate pairs of one step, from the known level.  ``nodes[p]``: the four
+    nodes (-1: a fixed point of an end fixture), ``sigma[p]`` their weights, ``n[p]`` the
+    normal, ``d[p]`` the closest-point vector a - b at the known level, ``w[p]`` the
+    law's weight."""
+
+    nodes: np.ndarray  # (P, 4) int64
+    sigma: np.ndarray  # (P, 4)
+    n: np.ndarray  # (P, 3)
+    d: np.ndarray  # (P, 3)
+    w: np.ndarray  # (P,)
+
+
+#: pairs whose ramp slope (C3) is below this enter the residual only, not the Jacobian (a
+#: gap of more than ~50 eps / k: the Newton iteration converges the same, with fewer columns)
+SLOPE_MIN = 1e-4
+
+NO_PAIRS = Pairs(np.zeros((0, 4), np.int64), np.zeros((0, 4)), np.zeros((0, 3)),
+                 np.zeros((0, 3)), np.zeros(0))  # fmt: skip
+
+
+def _gather(p: LawParams, r, pairs, reach, tails, fixtures):
+    """The candidate pairs (module docstring) among segment pairs ``pairs`` and, with
+    ``fixtures``, the segments against the two axis pieces ``tails``: closer than
+    ``reach`` at the known level and farther apart along the rod than ``min_arc``."""
+    n_seg = r.shape[0] - 1
+    nodes, sigma, normal, dist, weight = [], [], [], [], []
+    for i, j in pairs:
+        i, j = (i, j) if i < j else (j, i)
+        if (j - i - 1) * p.ds <= p.min_arc:
+            continue
+        s, t, dv = _closest(r[i], r[i + 1], r[j], r[j + 1])
+        d = float(np.sqrt(dv @ dv))
+        if d >= reach or d == 0.0:
+            continue
+        nodes.append((i, i + 1, j, j + 1))
+        sigma.append((1.0 - s, s, -(1.0 - t), -t))
+        normal.append(dv / d)
+        dist.append(dv)
+        weight.append(p.ds * _share(s) * _share(t))
+    if fixtures:
+        low = np.minimum(r[1:, 2], r[:-1, 2])
+        high = np.maximum(r[1:, 2], r[:-1, 2])
+        near = (low < r[0, 2] + reach, high > r[-1, 2] - reach)
+        for k in range(2):
+            for i in np.nonzero(near[k])[0]:
+                gap = (n_seg - 1 - i) * p.ds if k == 1 else i * p.ds
+                if gap <= p.min_arc:
+                    continue
+                s, _, dv = _closest(r[i], r[i + 1], tails[k, 0], tails[k, 1])
+                d = float(np.sqrt(dv @ dv))
+                if d >= reach or d == 0.0:
+                    continue
+                nodes.append((i, i + 1, -1, -1))
+                sigma.append((1.0 - s, s, 0.0, 0.0))
+                normal.append(dv / d)
+                dist.append(dv)
+                weight.append(p.ds * _share(s))
+    if not nodes:
+        return NO_PAIRS
+    return Pairs(np.array(nodes, np.int64), np.array(sigma), np.array(normal),
+                 np.array(dist), np.array(weight))  # fmt: skip
+
+
+def candidates(p: LawParams, r: np.ndarray, V: np.ndarray, dt: float, fixtures: bool) -> Pairs:
+    """The pairs that may touch during a step of dt from the known level (r, V): closest
+    points nearer than D + travel, travel = 4 dt max|V| + D/2 (twice the largest
+    relative displacement at the known speeds, and half a diameter)."""
+    reach = p.diameter + 4.0 * dt * float(np.max(np.linalg.norm(V, axis=1))) + 0.5 * p.diameter
+    mid = 0.5 * (r[1:] + r[:-1])
+    pairs = cKDTree(mid).query_pairs(p.ds + reach, output_type="ndarray")
+    pairs = pairs[(np.abs(pairs[:, 1] - pairs[:, 0]) - 1) * p.ds > p.min_arc]
+    tails = np.zeros((2, 2, 3))
+    if fixtures:
+        L = p.ds * (r.shape[0] - 1)
+        e3 = np.array([0.0, 0.0, 1.0])
+        tails = np.array([[r[0], r[0] - L * e3], [r[-1], r[-1] + L * e3]])
+    return _gather(p, np.ascontiguousarray(r), pairs, reach, tails, fixtures)
+
+
+@jit
+def _ramp(x, eps):
+    """max(0, x) with its kink rounded over |x| < eps (C3), and its slope."""
+    if x <= -eps:
+        return 0.0, 0.0
+    if x >= eps:
+        return x, 1.0
+    return (x + eps) * (x + eps) / (4.0 * eps), (x + eps) / (2.0 * eps)
+
+
+@jit
+def _forces(sp: StepParams, nodes, sigma, normal, dist, weight, V_old, V_new, f, slope):
+    """Nodal forces f (N+1, 3, inertial) of the pairs at the new velocities V_new, and each
+    pair's slope ramp'(x) (C3).  Returns (largest overlap, energy, dashpot power)."""
+    k, c, D = sp.law.stiffness, sp.law.damping, sp.law.diameter
+    eps = k * sp.smooth * D
+    worst, energy, power = 0.0, 0.0, 0.0
+    for p in range(nodes.shape[0]):
+        gap = 0.0
+        vn = 0.0
+        for a in range(4):
+            b = nodes[p, a]
+            if b < 0:
+                continue
+            for x in range(3):
+                dr = sp.dt * ((1.0 - sp.g_t) * V_old[b, x] + sp.g_t * V_new[b, x])
+                gap += sigma[p, a] * dr * normal[p, x]
+                vn += sigma[p, a] * V_new[b, x] * normal[p, x]
+        for x in range(3):
+            gap += dist[p, x] * normal[p, x]
+        delta = D - gap
+        worst = max(worst, delta)
+        mag, slope[p] = _ramp(k * delta - c * vn, eps)
+        w = weight[p]
+        if delta > 0.0:
+            energy += 0.5 * w * k * delta * delta
+        power += -w * c * vn * vn * slope[p]
+        for a in range(4):
+            b = nodes[p, a]
+            if b < 0:
+                continue
+            for x in range(3):
+                f[b, x] += sigma[p, a] * w * mag * normal[p, x]
+    return worst, energy, power
+
+
+class Source(NamedTuple):
+    """The contact at one iterate: the source q (N+1, nf) of eq (7) at the new level, the
+    Jacobian columns ``C`` (3m x rows of the scaled residual: one column per row) on the
+    scaled unknowns ``cols`` (3m flat indices), and the largest predicted overlap, the stored energy and
+    the dashpots' power of the pairs."""
+
+    q: np.ndarray
+    C: np.ndarray
+    cols: np.ndarray
+    overlap: float
+    energy: float
+    power: float
+    active: int
+
+
+def contact_source(sp: StepParams, pairs: Pairs, R_old, V_old, w_old, y_new, weights, nf, nbl,
+                   rscale, yscale, want_jac: bool = True) -> Source:  # fmt: skip
+    """The contact source and its Jacobian columns (module docstring, C1-C2) at the iterate
+    y_new (body velocities u = y[:, 0:3], spins w = y[:, 3:6]); ``R_old``, ``V_old`` and
+    ``w_old`` the frames, lab velocities and spins of the known level."""
+    n1 = R_old.shape[0]
+    R = shapes.rodrigues(0.5 * sp.dt * (y_new[:, 3:6] + w_old)) @ R_old  # (C1)
+    V_new = np.einsum("nji,nj->ni", R, y_new[:, 0:3])
+    f = np.zeros((n1, 3))
+    slope = np.zeros(pairs.nodes.shape[0])
+    worst, energy, power = _forces(sp, pairs.nodes, pairs.sigma, pairs.n, pairs.d, pairs.w,
+                                   V_old, V_new, f, slope)  # fmt: skip
+    q = np.zeros((n1, nf))
+    q[:, 0:3] = -np.einsum("nij,nj->ni", R, f) / weights[:, None]
+    on = slope > SLOPE_MIN
+    if not want_jac or not on.any():
+        return Source(
+            q, np.zeros((0, 0)), np.zeros(0, np.int64), worst, energy, power, int(on.sum())
+        )
+    nodes = np.unique(pairs.nodes[on][pairs.nodes[on] >= 0])
+    where = np.full(n1, -1, np.int64)
+    where[nodes] = np.arange(nodes.size)
+    C = np.zeros((3 * nodes.size, nf * n1))
+    stiff = sp.law.stiffness * sp.g_t * sp.dt + sp.law.damping
+    _columns(sp, pairs.nodes, pairs.sigma, pairs.n, pairs.w, slope, stiff, R, weights, where,
+             nbl, rscale, yscale, C)  # fmt: skip
+    cols = (nf * nodes[:, None] + np.arange(3)[None, :]).ravel()
+    return Source(q, C, cols, worst, energy, power, int(on.sum()))
+
+
+@jit
+def _columns(sp: StepParams, nodes, sigma, normal, weight, slope, stiff, R, weights, where,
+             nbl, rscale, yscale, C):  # fmt: skip
+    """The Jacobian columns C[3 m + y] (one row per column) of (C2) on the velocities of
+    the nodes in contact (``where[b]`` = m), in the scaled rows and unknowns:
+    dq_a / du_b = -R_a (df_a / dV_b) R_b^T / w_a, entered in the cells a - 1 (weight
+    1 - b_s) and a (b_s) with 1 - b_t."""
+    n1, nf = R.shape[0], rscale.shape[0]
+    for p in range(nodes.shape[0]):
+        if slope[p] <= SLOPE_MIN:
+            continue
+        coef = weight[p] * slope[p] * stiff  # -df/dV = coef sig_a sig_b n n^T
+        for a in range(4):
+            na = nodes[p, a]
+            if na < 0:
+                continue
+            Rn_a = R[na] @ normal[p]
+            for b in range(4):
+                nb = nodes[p, b]
+                if nb < 0:
+                    continue
+                Rn_b = R[nb] @ normal[p]
+                g = coef * sigma[p, a] * sigma[p, b] / weights[na]  # dq_a/du_b = g Rn_a Rn_b^T
+                col = 3 * where[nb]
+                for side in range(2):
+                    cell = na - 1 + side
+                    if cell < 0 or cell >= n1 - 1:
+                        continue
+                    wt = (1.0 - sp.b_t) * ((1.0 - sp.b_s) if side == 0 else sp.b_s)
+                    row = nbl + nf * cell
+                    for x in range(3):
+                        for y in range(3):
+                            C[col + y, row + x] += (
+                                wt * g * Rn_a[x] * Rn_b[y] * yscale[y] / rscale[x]
+                            )
+
+
+@jit
+def _solve_columns(fac, C, Z):
+    """Z[c] = J^{-1} C[c] for every column c, with the banded factors of J."""
+    for c in range(C.shape[0]):
+        solve_neg(fac, C[c], Z[c])
+        for j in range(Z.shape[1]):
+            for f in range(Z.shape[2]):
+                Z[c, j, f] = -Z[c, j, f]
+
+
+def add_to_residual(r, q_new, sp: StepParams, nf, nbl, rscale) -> None:
+    """r += the new level's contact source in every cell: (1 - b_t) [(1 - b_s) q_j +
+    b_s q_{j-1}] / rscale (the rows of prepare_step / residual)."""
+    cell = (1.0 - sp.b_t) * ((1.0 - sp.b_s) * q_new[1:] + sp.b_s * q_new[:-1]) / rscale
+    r[nbl : nbl + cell.size] += cell.ravel()
+
+
+def woodbury_solve(fac, r, C, cols, out) -> None:
+    """out = -(J + C E^T)^{-1} r, J the banded Jacobian whose factors ``fac`` hold, E the
+    columns ``cols`` of the identity (module docstring)."""
+    solve_neg(fac, r, out)  # out = -J^{-1} r = z
+    if cols.size == 0:
+        return
+    m = cols.size
+    Z3 = np.empty((m,) + out.shape)
+    _solve_columns(fac, C, Z3)  # Z[c] = J^{-1} C[c]
+    Z = Z3.reshape(m, -1)
+    z = out.ravel()
+    small = np.eye(m) + Z[:, cols].T
+    corr = np.linalg.solve(small, z[cols])
+    out[:, :] = (z - Z.T @ corr).reshape(out.shape)

@@ -1,0 +1,276 @@
+"""The march of a contact scene with the contact inside the implicit step
+(:mod:`.implicit`): the engine's kernels of one step (:mod:`dyntorsion.genalpha.discrete`:
+the fixed part of the step, residual, banded Jacobian and LU; :mod:`~dyntorsion.genalpha.newton`:
+the compiled Newton solve) driven step by step from here, so the engine's own march and
+every scene without contact are untouched.
+
+Each step: the candidate pairs from the known level (:func:`.implicit.candidates`); none:
+the engine's compiled Newton solve of the step (:func:`~dyntorsion.genalpha.newton.solve_step`,
+the same as a scene without contact, with its retry from the other predictor); some: a
+full Newton solve with the contact's source and Jacobian columns (Woodbury on the banded
+factors) at every iteration.  Between steps the same bookkeeping as the lagged route
+(:class:`.run._Between`: rebuild, law on the rebuilt shape for the reported overlap,
+energy budget with the source the step used, topology), so both routes report alike.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+
+import numba
+import numpy as np
+
+from ..._numba import A1, A2, JACOBIAN_SIGNATURE, LOAD_SIGNATURE, jit
+from ...buckling.stops import STRAIGHT
+from ...genalpha import abd as _abd
+from ...genalpha.discrete import CONSTANTS, WORK, constants, factor, prepare_step, residual, setup
+from ...genalpha.newton import (
+    NEWTON_OPTIONS,
+    ConvergenceError,
+    _axpy_scaled,
+    _norm,
+    solve_step,
+)
+from ...genalpha.plan import Source as EngineSource
+from ...genalpha.plan import initial_rate
+from .implicit import (
+    NO_PAIRS,
+    StepParams,
+    add_to_residual,
+    candidates,
+    contact_source,
+    woodbury_solve,
+)
+
+__all__ = ["Marched", "march_implicit"]
+
+
+_F = numba.types.FunctionType(LOAD_SIGNATURE)
+_DF = numba.types.FunctionType(JACOBIAN_SIGNATURE)
+_I = numba.int64
+
+
+@jit(signature=numba.void(_F, CONSTANTS, WORK, A2, A2, A2))
+def _prepare(F, con, w, qs, q_old, q_new):
+    """The fixed part of the step (the engine's prepare_step; sources q_seed and the
+    contact's at the old level and, with q_new = 0, none at the new one)."""
+    prepare_step(F, con, w, qs, 1.0, 1.0, q_old, q_new, True)
+
+
+@jit(
+    signature=numba.types.Tuple((numba.float64, _I))(_F, _DF, CONSTANTS, A1, A1, WORK, _abd.FACTORS)
+)
+def _residual_factor(F, dF, con, gL, gR, w, fac):
+    """The residual w.r at w.y (its RMS) and the LU factors of the banded Jacobian (the
+    column of a zero pivot, or -1)."""
+    res = residual(F, dF, con, gL, gR, w.y, w, w.r, True)
+    return res, factor(con, w, fac)
+
+
+@jit(signature=numba.float64(_F, _DF, CONSTANTS, A1, A1, WORK))
+def _residual_only(F, dF, con, gL, gR, w):
+    """The residual w.r_trial at w.y_trial (its RMS)."""
+    return residual(F, dF, con, gL, gR, w.y_trial, w, w.r_trial, False)
+
+
+@jit(signature=_I(_F, _DF, CONSTANTS, A1, A1, WORK, _abd.FACTORS, NEWTON_OPTIONS))
+def _free_newton(F, dF, con, gL, gR, w, fac, opts):
+    """The engine's Newton solve of a step without contact; its status."""
+    return solve_step(F, dF, con, gL, gR, w, fac, opts).status
+
+
+@dataclass
+class Marched:
+    """What :func:`march_implicit` returns: the last level, the steps taken, how it ended,
+    and the cost (steps with contact, their Newton iterations and wall time)."""
+
+    y: np.ndarray
+    t_final: float
+    steps: int
+    stopped: str
+    contact_steps: int = 0
+    contact_iterations: int = 0
+    contact_seconds: float = 0.0
+    free_seconds: float = 0.0
+    largest_predicted_overlap: float = 0.0
+
+    def cost(self, diameter: float) -> dict[str, float]:
+        """What the implicit contact cost: steps with contact candidates, their Newton
+        iterations, wall time per step with and without, the largest predicted overlap."""
+        free = max(self.steps - self.contact_steps, 1)
+        return {
+            "contact_steps": self.contact_steps,
+            "contact_newton_iterations": self.contact_iterations,
+            "seconds_per_contact_step": self.contact_seconds / max(self.contact_steps, 1),
+            "seconds_per_free_step": self.free_seconds / free,
+            "largest_predicted_overlap_over_D": self.largest_predicted_overlap / diameter,
+        }
+
+
+def _contact_newton(system, con, w, fac, gL, gR, sp, pairs, R, V_old, weights, opts):
+    """Newton for the step with the contact's source (module docstring) from w.y, a full
+    Jacobian at every iteration and a backtracking on the RMS residual (halving the
+    correction up to 5 times while it grows); returns (converged, iterations, the
+    contact's :class:`~.implicit.Source` at the solution)."""
+    nf, nbl = system.nf, con.left_rows.shape[0]
+    ys, rs = con.yscale, con.rscale
+    y, r, dx, yt, rt = w.y, w.r, w.dx, w.y_trial, w.r_trial
+    w_old = np.ascontiguousarray(w.y_old[:, 3:6])
+
+    def rms(v):
+        return float(np.sqrt(np.mean(v * v)))
+
+    res, pivot = _residual_factor(system.F, system.dF, con, gL, gR, w, fac)
+    for it in range(1, opts.max_iter + 1):
+        src = contact_source(sp, pairs, R, V_old, w_old, y, weights, nf, nbl, rs, ys)
+        add_to_residual(r, src.q, sp, nf, nbl, rs)
+        res = rms(r)
+        if not math.isfinite(res) or pivot >= 0:
+            w.factored[0] = 0
+            return False, it, src
+        w.factored[0] = 1
+        woodbury_solve(fac, r, src.C, src.cols, dx)
+        nd = _norm(dx, y, ys)
+        if not math.isfinite(nd):
+            return False, it, src
+        if nd <= opts.tol:
+            _axpy_scaled(y, 1.0, dx, ys, y)
+            src = contact_source(sp, pairs, R, V_old, w_old, y, weights, nf, nbl, rs, ys, False)
+            return True, it, src
+        lam = 1.0
+        for _ in range(6):
+            _axpy_scaled(y, lam, dx, ys, yt)
+            _residual_only(system.F, system.dF, con, gL, gR, w)
+            trial = contact_source(sp, pairs, R, V_old, w_old, yt, weights, nf, nbl, rs, ys, False)
+            add_to_residual(rt, trial.q, sp, nf, nbl, rs)
+            if rms(rt) < res:
+                break
+            lam *= 0.5
+        y[:, :] = yt
+        res, pivot = _residual_factor(system.F, system.dF, con, gL, gR, w, fac)
+    return False, opts.max_iter, src
+
+
+class _Level:
+    """The constants of steps of one length h: the engine's, the law's, the boundary rows."""
+
+    def __init__(self, system, scheme, ds, h, left, right, law, smooth):
+        self.h = h
+        self.con = constants(system, scheme, ds, h, left, right)
+        co = self.con.co
+        self.sp = StepParams(law, h, 0.5, co.b_t, co.b_s, smooth)  # C1: the time route's rule
+
+
+def march_implicit(between, system, scheme, newton, grid, y0, left, right, q_seed,
+                   substeps: int) -> Marched:  # fmt: skip
+    """March ``grid`` from y0 with the contact implicit (module docstring); ``between`` is
+    the run's :class:`.run._Between`, consulted after every step.  A step of ``grid.dt``
+    near which no pair can touch is taken whole; one where some can, or where the rod
+    moves fast (:func:`fast`), in ``substeps`` steps of grid.dt / substeps."""
+    n1, nf, ds = y0.shape[0], system.nf, grid.ds
+    n_steps = int(math.ceil((grid.t_end - grid.t0) / grid.dt - 1e-9))
+    src0 = EngineSource.of(grid.s, nf, (q_seed, None), None)
+    rate0 = initial_rate(system, y0, ds, "consistent", src0, grid.t0)
+    _, w, fac = setup(system, scheme, n1 - 1, ds, grid.dt, left, right, y0, rate0)
+    whole = _Level(system, scheme, ds, grid.dt, left, right, between.law, between.c.smooth)
+    part = _Level(
+        system, scheme, ds, grid.dt / substeps, left, right, between.law, between.c.smooth
+    )
+    opts = newton.options()
+    retry = opts._replace(reuse=False, rate_predictor=not opts.rate_predictor)
+    weights, recon = between.weights, between.recon
+    q_seed = np.ascontiguousarray(q_seed, float)
+    zeros = np.zeros((n1, nf))
+    state = {"q_old": zeros, "level": None}
+    out = Marched(y0, float(grid.t0), 0, "t_end")
+    check_every = max(1, int(round(between.c.check / grid.dt)))
+
+    def step(lv: _Level, t_new: float, near) -> bool:
+        tick = time.perf_counter()
+        if state["level"] is not lv:
+            w.factored[0] = 0  # the factors held are of the other step length
+            state["level"] = lv
+        con, h = lv.con, lv.h
+        _prepare(system.F, con, w, q_seed, state["q_old"], zeros)
+        gL, gR = left.at(np.array([t_new]))[0], right.at(np.array([t_new]))[0]
+        w.y[:, :] = w.y_old
+        q_new, ok = zeros, True
+        if near.nodes.shape[0] == 0:
+            if _free_newton(system.F, system.dF, con, gL, gR, w, fac, opts) != 0:
+                w.y[:, :] = w.y_old + h * w.rate_old
+                w.factored[0] = 0
+                ok = _free_newton(system.F, system.dF, con, gL, gR, w, fac, retry) == 0
+            out.free_seconds += time.perf_counter() - tick
+        else:
+            R, _ = recon.frames(True)
+            V_old = recon.velocities(w.y_old, True)
+            w.y[:, :] = w.y_old + h * w.rate_old  # the rate predictor, then the constant one
+            ok, its, src = _contact_newton(
+                system, con, w, fac, gL, gR, lv.sp, near, R, V_old, weights, opts
+            )
+            if not ok:
+                w.y[:, :] = w.y_old
+                ok, more, src = _contact_newton(
+                    system, con, w, fac, gL, gR, lv.sp, near, R, V_old, weights, opts
+                )
+                its += more
+            q_new = src.q
+            out.contact_steps += 1
+            out.contact_iterations += its
+            out.largest_predicted_overlap = max(out.largest_predicted_overlap, src.overlap)
+            out.contact_seconds += time.perf_counter() - tick
+        if not ok:
+            err = ConvergenceError(t_new, out.steps + 1, opts.max_iter, float("nan"),
+                                   "Newton did not converge (implicit contact step)", dt=h)  # fmt: skip
+            out.stopped = f"failed: {err}"
+            return False
+        g_t = con.co.g_t  # eq (11): the new rate from the new level
+        w.rate_old[:, :] = (w.y - w.y_old) / (g_t * h) - (1.0 - g_t) / g_t * w.rate_old
+        w.y_old[:, :] = w.y
+        state["q_old"] = q_new
+        between.pending = q_new
+        out.y, out.t_final, out.steps = w.y_old.copy(), t_new, out.steps + 1
+        return True
+
+    def near_pairs(lv: _Level):
+        if between.ds * np.sum(np.hypot(w.y_old[:, 6], w.y_old[:, 7])) < STRAIGHT:
+            return NO_PAIRS  # no part can reach another while the rod is nearly straight
+        V_old = recon.velocities(w.y_old, True)
+        return candidates(lv.sp.law, recon.frames(True)[1], V_old, lv.h, between.c.fixtures)
+
+    def fast(h: float) -> bool:
+        """Whether a step h moves a node more than D / 2 or turns a frame by more than
+        0.1 rad (the time route's trapezoidal rule, C1, then loses the link: a = 16,
+        N = 200 in whole steps of 0.01 s, Lk - Tw - Wr went from 1e-4 to 0.05 turns in the
+        whip before the first contact)."""
+        V = recon.velocities(w.y_old, True)
+        travel = h * float(np.max(np.linalg.norm(V, axis=1)))
+        turn = h * float(np.max(np.linalg.norm(w.y_old[:, 3:6], axis=1)))
+        return travel > 0.5 * between.rod.thickness or turn > 0.1
+
+    for k in range(n_steps):
+        t0 = grid.t0 + k * grid.dt
+        near = near_pairs(whole)
+        if near.nodes.shape[0] == 0 and not state["q_old"].any() and not fast(whole.h):
+            if not step(whole, grid.t0 + (k + 1) * grid.dt, near):
+                break
+            reason = between(out.t_final, w.y_old, whole.h, (k + 1) % check_every == 0)
+        else:
+            for m in range(substeps):
+                t_new = t0 + (m + 1) * part.h if m < substeps - 1 else grid.t0 + (k + 1) * grid.dt
+                if not step(part, t_new, near_pairs(part)):
+                    break
+                last = m == substeps - 1
+                reason = between(out.t_final, w.y_old, part.h, last and (k + 1) % check_every == 0)
+                if reason:
+                    break
+            else:
+                reason = None
+            if out.stopped != "t_end":
+                break
+        if reason:
+            out.stopped = reason
+            break
+    return out
