@@ -161,7 +161,8 @@ def test_a_contact_scene_keeps_the_scene_key_and_adds_the_contact():
     [({"stiffness": 0.0}, "stiffness"), ({"damping": -1.0}, "damping"),
      ({"min_arc": 0.5}, "min_arc"), ({"stability": 3.0}, "stability"),
      ({"check": float("nan")}, "check"), ({"max_step": 0.0}, "max_step"),
-     ({"smooth": 2.0}, "smooth")],
+     ({"smooth": 2.0}, "smooth"), ({"min_step": 0.0}, "min_step"),
+     ({"min_step": 1e-3, "max_step": 1e-4}, "min_step")],
 )  # fmt: skip
 def test_bad_contact_numbers_are_refused_by_name(kwargs, word):
     with pytest.raises(ValueError, match=word):
@@ -248,3 +249,47 @@ def test_a_passage_through_itself_ends_the_run_with_a_clear_error():
     # what the lag costs: the loop closes at ~1 m/s (1.05 measured), which a lagged penalty
     # holds to 1 % of D only with omega_c >= 1e5 rad/s, i.e. dt <= 5e-6 s
     assert res["max_approach_speed"] > 0.5 and res["dt_for_1pct_penetration"] < 1e-5
+
+
+def _flaky(monkeypatch, fail):
+    """Make the implicit march's free Newton solve fail where ``fail(call)`` says so."""
+    from dyntorsion.beyond.contact import marching
+
+    real_solve, calls = marching._free_newton, [0]
+
+    def flaky(*args):
+        calls[0] += 1
+        return 1 if fail(calls[0]) else real_solve(*args)
+
+    monkeypatch.setattr(marching, "_free_newton", flaky)
+    return calls
+
+
+def test_a_failed_step_is_retried_in_shorter_substeps(monkeypatch):
+    """A whole step whose Newton solve fails (both predictors) is crossed again in
+    substeps from the same level, and the run goes on to its end unchanged in substance."""
+    scene = Scene(a=16.0, kappa0=10.0, t_end=0.03, n_cells=20, dt=0.01)
+    cs = ContactScene(scene, Contact(stiffness=200.0))
+    plain = run_contact_scene(cs).result()
+    _flaky(monkeypatch, lambda call: call in (2, 3))  # the second whole step, both tries
+    res = run_contact_scene(cs).result()
+    assert res["stopped"] == "t_end" and res["t_last"] == pytest.approx(0.03)
+    imp = res["implicit"]
+    assert imp["failed_solves_retried_shorter"] == 1
+    assert imp["shortest_step"] == pytest.approx(scene.dt / cs.substeps())
+    # one step of 0.01 s crossed in 40 substeps instead of whole (the torsional waves at a
+    # Courant number of 11 in whole steps): 4.1e-4 relative measured
+    assert res["twist_turns"] == pytest.approx(plain["twist_turns"], rel=1e-3)
+    assert res["twist_turns"] != plain["twist_turns"]
+
+
+def test_a_step_failing_at_the_shortest_substep_ends_the_run_saying_so(monkeypatch):
+    scene = Scene(a=16.0, kappa0=10.0, t_end=0.05, n_cells=20, dt=0.01)
+    cs = ContactScene(scene, Contact(stiffness=200.0, max_step=2.5e-3, min_step=1e-3))
+    _flaky(monkeypatch, lambda call: call > 2)
+    res = run_contact_scene(cs).result()
+    assert res["stopped"].startswith("failed:") and "shortest substep" in res["stopped"]
+    assert "t=0.02125" in res["stopped"] and res["t_last"] == pytest.approx(0.02)
+    # the end turning at 16 rad/s is fast for whole steps (0.16 rad a step): substeps of
+    # 2.5e-3 s, then 1.25e-3 s (min_step 1e-3), each failing
+    assert res["implicit"]["failed_solves_retried_shorter"] == 2

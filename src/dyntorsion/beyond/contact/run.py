@@ -5,7 +5,7 @@ keys and records) and :func:`run_contact_scene`.
 
 **Implicit (default).**  The contact inside the implicit step on the time route of the
 centreline (:mod:`.implicit`), marched by :mod:`.marching`; between steps the bookkeeping
-below (rebuild, law for the reported overlap, energy, topology) on that route.
+in :mod:`.between` (rebuild, law for the reported overlap, energy, topology) on that route.
 **Lagged (``implicit=False``, the first cut).**  The scene's run through the engine,
 :func:`dyntorsion.genalpha.integrate`, with two additions made between steps:
 
@@ -39,16 +39,13 @@ from typing import Any
 import numpy as np
 
 from ...buckling.scene import Scene
-from ...buckling.simulation import RECORDED
-from ...buckling.stops import STRAIGHT
-from ...genalpha import ConvergenceError, Grid, Output, Sources, Stops, integrate
+from ...genalpha import Grid
 from ...genalpha.guard import real
 from ...model.cosserat import Cosserat
-from .centreline import Reconstruction
+from .between import _Between, _lagged
 from .damped import damped_system
-from .law import NO_CONTACT, LawParams, contact_forces, contact_sites, lag_cost
+from .law import LawParams, lag_cost
 from .marching import march_implicit
-from .topology import closed_polygon, link_turns, passage, twist_turns, writhe_turns
 
 __all__ = ["Contact", "ContactScene", "ContactRun", "PassageError", "run_contact_scene"]
 
@@ -71,8 +68,10 @@ class Contact:
     stability : omega_c dt_run <= stability (the lagged penalty's step), in (0, 2].
     implicit : the contact inside the implicit step (:mod:`.implicit`, :mod:`.marching`);
         False: lagged one step (the first cut).
-    max_step : implicit: dt_run = scene.dt / m <= max_step [s], > 0 (an accuracy bound:
-        the implicit law is stable at any step).
+    max_step : implicit: dt_run = scene.dt / m <= max_step [s], > 0, the longest substep
+        near contact (an accuracy bound: the implicit law is stable at any step).
+    min_step : implicit: the shortest substep [s], > 0 and <= max_step; fast motion and
+        failed Newton solves halve the substep down to it (:func:`.marching.march_implicit`).
     smooth : implicit: the clip of the law smoothed over a force of ``smooth`` k D
         (:mod:`.implicit`, C3), in (0, 1].
     check : interval of the topology check and of the recorded histories [s], > 0.
@@ -89,6 +88,7 @@ class Contact:
     implicit: bool = True
     max_step: float = 2.5e-4
     smooth: float = 1e-3
+    min_step: float = 1e-7
 
     def __post_init__(self) -> None:
         for name, lo, strict, hi in (
@@ -96,7 +96,7 @@ class Contact:
             ("min_arc", 1.0, False, math.inf), ("viscous", 0.0, False, math.inf),
             ("viscous_moment", 0.0, False, math.inf), ("stability", 0.0, True, 2.0),
             ("check", 0.0, True, math.inf), ("max_step", 0.0, True, math.inf),
-            ("smooth", 0.0, True, 1.0),
+            ("smooth", 0.0, True, 1.0), ("min_step", 0.0, True, math.inf),
         ):  # fmt: skip
             v = real(name, getattr(self, name))
             if not ((v > lo if strict else v >= lo) and v <= hi):
@@ -104,6 +104,10 @@ class Contact:
                 high = "" if hi == math.inf else f" and <= {hi:g}"
                 raise ValueError(f"contact {name}={v!r} must be {low}{high}")
             object.__setattr__(self, name, float(v))
+        if self.min_step > self.max_step:
+            raise ValueError(
+                f"contact min_step={self.min_step!r} must be <= max_step={self.max_step!r}"
+            )
         object.__setattr__(self, "fixtures", bool(self.fixtures))
         object.__setattr__(self, "implicit", bool(self.implicit))
 
@@ -183,163 +187,6 @@ class ContactRun:
         return self
 
 
-class _Between:
-    """What the run does between steps (module docstring): the engine's stop test and the
-    source q(s, t) of the next level."""
-
-    def __init__(self, cs: ContactScene, model: Cosserat, y0, ds, dt, q_seed, check_every,
-                 time_route: bool):  # fmt: skip
-        rod, self.c = cs.scene.rod, cs.contact
-        self.model, self.ds, self.dt, self.rod = model, ds, dt, rod
-        self.law = cs.contact.law(rod, ds)
-        self.q_seed, self.f_seed = q_seed, -q_seed[:, 0:3]
-        #: the implicit contact acts on the time route (:mod:`.centreline`): the geometry of
-        #: the law, the writhe and the shapes; the lagged one on the spatial route
-        self.time = cs.contact.implicit
-        self.recon = Reconstruction(y0, ds, rod.L, time_route=time_route or self.time)
-        n1 = y0.shape[0]
-        self.weights = np.full(n1, ds)
-        self.weights[[0, -1]] = 0.5 * ds
-        self.q = {0: np.zeros((n1, 12))}
-        self.pending = np.zeros((n1, 12))
-        self.check_every, self.k = check_every, 0
-        self.theta = [0.0, 0.0]
-        self.y_old = np.array(y0, float)
-        self.first_contact_t, self.max_overlap, self.max_sites, self.sites = None, 0.0, 0, 0
-        self.approach = 0.0
-        self.e0 = self._energy(y0)
-        self.work = {"ends": 0.0, "seed": 0.0, "contact": 0.0, "viscous": 0.0}
-        self.power_old = self._powers(y0, np.zeros((n1, 12)))
-        self.dashpot, self.de = 0.0, 0.0
-        self.shapes: list[np.ndarray] = []
-        tw0 = twist_turns(y0[:, 8], ds)
-        self.lk0 = tw0 + writhe_turns(closed_polygon(self.recon.r))
-        self.hist: dict[str, list] = {k: [] for k in (
-            "t", "link", "twist", "writhe", "sites", "overlap_over_D", "contact_energy",
-            "energy", "work")}  # fmt: skip
-        self.worst_gap, self.last_gap, self.passage = 0.0, 0.0, None
-        self._topology(0.0, y0, 0, 0.0)
-
-    def _energy(self, y) -> float:
-        e = self.model.energy_density(y)
-        return float(self.ds * (e.sum() - 0.5 * (e[0] + e[-1])))
-
-    def _powers(self, y, q) -> np.ndarray:
-        """Power at the ends, of the seed, of the contact and viscous sources [W]."""
-        r = self.rod
-        m0 = np.array([r.B1, r.B2, r.C]) * y[0, 6:9]
-        mL = np.array([r.B1, r.B2, r.C]) * y[-1, 6:9]
-        ends = (
-            -(m0 @ y[0, 3:6] + y[0, 9:12] @ y[0, 0:3]) + mL @ y[-1, 3:6] + y[-1, 9:12] @ y[-1, 0:3]
-        )
-        w = self.weights
-        seed = float(np.sum(w * np.einsum("ni,ni->n", self.f_seed, y[:, 0:3])))
-        src = -q  # f of the source (the contact), body frame
-        lin = float(np.sum(w * np.einsum("ni,ni->n", src[:, 0:3], y[:, 0:3])))
-        visc = -float(np.sum(w * (self.c.viscous * np.sum(y[:, 0:3] ** 2, axis=1)
-                                  + self.c.viscous_moment * np.sum(y[:, 3:6] ** 2, axis=1))))  # fmt: skip
-        return np.array([ends, seed, lin, visc])
-
-    def field(self, s, t: float) -> np.ndarray:
-        """The source q(s, t) of the level at t (the contact part; lagged)."""
-        key = int(round(t / self.dt))
-        if key not in self.q:
-            self.q[key] = self.pending
-            self.q.pop(key - 3, None)
-        return self.q[key]
-
-    def __call__(self, t: float, y: np.ndarray, dt: float | None = None,
-                 check: bool | None = None) -> str | None:  # fmt: skip
-        """The engine's stop test at the level t, y: rebuild, contact, source, topology.
-        ``dt`` the step that reached it (default the run's), ``check`` whether to take the
-        topology there (default every ``check_every`` calls)."""
-        self.k += 1
-        y = np.asarray(y)
-        if dt is not None:
-            self.dt = dt
-        self.recon.update(y, self.dt)
-        self.theta[0] += 0.5 * self.dt * (y[0, 5] + self.y_old[0, 5])
-        self.theta[1] += 0.5 * self.dt * (y[-1, 5] + self.y_old[-1, 5])
-        # energy budget of the step just taken (trapezoidal powers, the source it used)
-        p_new = self._powers(y, self.q.get(self.k, self.pending))
-        dw = 0.5 * self.dt * (self.power_old + p_new)
-        for name, v in zip(("ends", "seed", "contact", "viscous"), dw, strict=True):
-            self.work[name] += float(v)
-        v = self.recon.velocities(y, self.time)
-        r_law = self.recon.frames(self.time)[1]
-        if self.ds * np.sum(np.hypot(y[:, 6], y[:, 7])) < STRAIGHT:
-            cf = NO_CONTACT._replace(force=np.zeros_like(v))  # no part can reach another
-        else:
-            cf = contact_forces(self.law, r_law, v, self.c.fixtures)
-        f_body = self.recon.to_body(cf.force, self.time) / self.weights[:, None]
-        q = np.zeros_like(self.pending)
-        q[:, 0:3] = -f_body
-        self.pending = q
-        self.power_old = p_new
-        self.dashpot += self.dt * cf.dissipation
-        self.y_old = y.copy()
-        overlap = cf.max_overlap / self.rod.thickness
-        self.max_overlap = max(self.max_overlap, overlap)
-        self.approach = max(self.approach, cf.approach)
-        self.sites = contact_sites(cf.touching)
-        self.max_sites = max(self.max_sites, self.sites)
-        if cf.pairs and self.first_contact_t is None:
-            self.first_contact_t = float(t)
-        if (self.k % self.check_every == 0) if check is None else check:
-            self._topology(t, y, self.sites, overlap, cf.energy)
-            if self.passage is not None:
-                return self.passage
-        return None
-
-    def finish(self, y: np.ndarray, last: bool) -> None:
-        """The energy change at the final level y (``last``: the engine did not consult
-        the test there, so the budget of the last step is added here)."""
-        if last:
-            p_new = self._powers(y, self.q.get(self.k + 1, self.pending))
-            dw = 0.5 * self.dt * (self.power_old + p_new)
-            for name, v in zip(("ends", "seed", "contact", "viscous"), dw, strict=True):
-                self.work[name] += float(v)
-        self.de = self._energy(y) - self.e0
-
-    def _topology(self, t, y, sites, overlap, e_contact=0.0) -> None:
-        tw = twist_turns(y[:, 8], self.ds)
-        r = self.recon.frames(self.time)[1]
-        wr = writhe_turns(closed_polygon(r))
-        lk = link_turns(self.lk0, self.theta[0], self.theta[1])
-        h = self.hist
-        for name, val in (("t", t), ("link", lk), ("twist", tw), ("writhe", wr), ("sites", sites),
-                          ("overlap_over_D", overlap), ("contact_energy", e_contact),
-                          ("energy", self._energy(y) - self.e0), ("work", sum(self.work.values()))):  # fmt: skip
-            h[name].append(float(val))
-        self.shapes.append(r.copy())
-        gap, jump = lk - tw - wr, lk - tw - wr - self.last_gap
-        self.last_gap = gap
-        if passage(gap - jump, gap) and self.passage is None:
-            self.passage = (
-                f"passage: the rod passed through itself at t <= {t:.6g} s (Lk - Tw - Wr = "
-                f"{gap:.3f} turns, a jump of {jump:.3f} since the last check: a passage changes the writhe by 2 while the link and twist "
-                "stay continuous); stiffen the contact, shorten the step or refine the grid"
-            )
-        else:  # the drift of the reconstruction, where no passage intervened
-            self.worst_gap = max(self.worst_gap, abs(gap))
-
-
-def _lagged(between, system, scene, grid, y0, left, right, q_seed, check_every):
-    """The lagged route through the engine (module docstring): the run and how it ended."""
-    try:
-        run = integrate(
-            system, grid, y0=y0, left=left, right=right, scheme=scene.scheme,
-            newton=scene.newton, sources=Sources(separable=(q_seed, None), field=between.field),
-            output=Output(record=RECORDED, every=check_every, progress=False),
-            stops=Stops(test=between, check_every=1),
-        )  # fmt: skip
-        return run, run.stopped
-    except ConvergenceError as err:
-        if err.run is None:
-            raise
-        return err.run, f"failed: {err}"
-
-
 def run_contact_scene(
     cs: ContactScene, t_end: float | None = None, *, time_route: bool = False
 ) -> ContactRun:
@@ -371,7 +218,7 @@ def run_contact_scene(
     if c.implicit:
         grid = Grid(n, rod.L, scene.dt, t_end)
         run = march_implicit(between, system, scene.scheme, scene.newton, grid, y0, left, right,
-                             q_seed, cs.substeps())  # fmt: skip
+                             q_seed, cs.substeps(), c.min_step)  # fmt: skip
         stopped = run.stopped
     else:
         run, stopped = _lagged(between, system, scene, Grid(n, rod.L, dt, t_end), y0, left,
