@@ -162,7 +162,8 @@ def test_a_contact_scene_keeps_the_scene_key_and_adds_the_contact():
      ({"min_arc": 0.5}, "min_arc"), ({"stability": 3.0}, "stability"),
      ({"check": float("nan")}, "check"), ({"max_step": 0.0}, "max_step"),
      ({"smooth": 2.0}, "smooth"), ({"min_step": 0.0}, "min_step"),
-     ({"min_step": 1e-3, "max_step": 1e-4}, "min_step")],
+     ({"min_step": 1e-3, "max_step": 1e-4}, "min_step"),
+     ({"max_cell_bend": 0.0}, "max_cell_bend")],
 )  # fmt: skip
 def test_bad_contact_numbers_are_refused_by_name(kwargs, word):
     with pytest.raises(ValueError, match=word):
@@ -293,3 +294,15 @@ def test_a_step_failing_at_the_shortest_substep_ends_the_run_saying_so(monkeypat
     # the end turning at 16 rad/s is fast for whole steps (0.16 rad a step): substeps of
     # 2.5e-3 s, then 1.25e-3 s (min_step 1e-3), each failing
     assert res["implicit"]["failed_solves_retried_shorter"] == 2
+
+
+def test_a_grid_too_coarse_for_the_loop_stops_the_run_saying_what_to_refine():
+    """The run stops once a cell holds more bending than max_cell_bend (here set below the
+    seed's own bending), naming the curvature, the loop's radius in diameters and the grid
+    that would resolve it."""
+    scene = Scene(a=16.0, kappa0=10.0, t_end=0.1, n_cells=20, dt=0.01)
+    res = run_contact_scene(ContactScene(scene, Contact(max_cell_bend=1e-12))).result()
+    assert res["stopped"].startswith("under-resolved:")
+    for word in ("max_cell_bend is 1e-12 rad", "n_cells >=", "radius", " D on cells of 50 D"):
+        assert word in res["stopped"], (word, res["stopped"])
+    assert res["max_cell_bend"] > 1e-12 and res["t_last"] < 0.1

@@ -29,6 +29,9 @@ def add_contact_options(b: argparse.ArgumentParser) -> None:
     g.add_argument("--contact-max-step", type=float, default=d.max_step,
                    help="implicit contact: the longest step near contact [s] (default "
                    f"{d.max_step:g}; the scene's step elsewhere)")  # fmt: skip
+    g.add_argument("--contact-max-cell-bend", type=float, default=d.max_cell_bend,
+                   help="stop as under-resolved once a cell holds more bending than this "
+                   f"[rad] (default {d.max_cell_bend:g})")  # fmt: skip
     g.add_argument("--contact-lagged", action="store_true",
                    help="the contact lagged one step (the first cut; step cut to "
                    "omega_c dt <= 0.5) instead of inside the implicit step")  # fmt: skip
@@ -45,6 +48,7 @@ def buckle_contact(args: argparse.Namespace, scene: Scene) -> int:
     contact = Contact(
         stiffness=args.contact_stiffness, damping=args.contact_damping, viscous=args.viscous,
         implicit=not args.contact_lagged, max_step=args.contact_max_step,
+        max_cell_bend=args.contact_max_cell_bend,
     )  # fmt: skip
     result = run_contact_scene(ContactScene(scene, contact)).result()
     if args.json:
@@ -52,6 +56,6 @@ def buckle_contact(args: argparse.Namespace, scene: Scene) -> int:
     else:
         for key in ("scene", "stopped", "dt_run", "first_contact_t", "max_penetration_over_D",
                     "contact_sites", "link_turns", "twist_turns", "writhe_turns",
-                    "max_link_gap_turns", "energy_residual"):  # fmt: skip
+                    "max_link_gap_turns", "max_cell_bend", "energy_residual"):  # fmt: skip
             print(f"{key:<24} {result[key]}")
     return 0 if result["stopped"] == "t_end" else 1

@@ -41,6 +41,7 @@ class _Between:
         self.theta = [0.0, 0.0]
         self.y_old = np.array(y0, float)
         self.first_contact_t, self.max_overlap, self.max_sites, self.sites = None, 0.0, 0, 0
+        self.max_cell_bend = 0.0
         self.approach = 0.0
         self.e0 = self._energy(y0)
         self.work = {"ends": 0.0, "seed": 0.0, "contact": 0.0, "viscous": 0.0}
@@ -124,7 +125,27 @@ class _Between:
             self._topology(t, y, self.sites, overlap, cf.energy)
             if self.passage is not None:
                 return self.passage
-        return None
+        return self._resolved(t, y)
+
+    def _resolved(self, t: float, y: np.ndarray) -> str | None:
+        """The run's stop where the bending within one cell, ds |kappa_b|, passes the
+        contact's ``max_cell_bend``: the grid no longer resolves the loop."""
+        bend = self.ds * np.hypot(y[:, 6], y[:, 7])
+        j = int(np.argmax(bend))
+        self.max_cell_bend = max(self.max_cell_bend, float(bend[j]))
+        if bend[j] <= self.c.max_cell_bend:
+            return None
+        n = y.shape[0] - 1
+        need = int(np.ceil(n * bend[j] / self.c.max_cell_bend))
+        return (
+            f"under-resolved: the bending within a cell reached {bend[j]:.3g} rad at "
+            f"t={t:.6g} s (node {j} of {n}: curvature {bend[j] / self.ds:.4g} 1/m, a loop of "
+            f"radius {self.ds / bend[j] / self.rod.thickness:.3g} D on cells of "
+            f"{self.ds / self.rod.thickness:.3g} D); max_cell_bend is "
+            f"{self.c.max_cell_bend:g} rad: refine the grid (n_cells >= {need} holds this "
+            "curvature at the limit; loops after contact tighten further) or raise "
+            "max_cell_bend"
+        )
 
     def finish(self, y: np.ndarray, last: bool) -> None:
         """The energy change at the final level y (``last``: the engine did not consult
