@@ -1,0 +1,78 @@
+"""Convergence in N and in the step of the first self-contact of the paper's a = 16 scene
+past the onset (issue 33, item 3), with the implicit contact of
+:mod:`dyntorsion.beyond.contact`: each grid run from rest to ``T_END`` (just past the
+first contact), and the time of first contact, Lk - Tw - Wr at its largest, the largest
+bending within a cell and the energy residual written to
+``data/contact/first_contact.json`` (atomically, after every run: an interrupted sweep
+resumes where it stopped when the parameters and the script are unchanged).
+
+Grids: N = 100, 200, 400, 800 at the default longest substep near contact (2.5e-4 s),
+and at N = 400 the longest substep halved twice.  The scene's step is 0.01 s throughout
+(at a = 16 the driven end turns 0.16 rad in it, so every step is crossed in substeps:
+the step that matters is the substep).
+
+Run: ``python benchmarks/contact_convergence.py`` (about 15 min on one core).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import tempfile
+import time
+from pathlib import Path
+
+from dyntorsion import __version__
+from dyntorsion.beyond.contact.run import Contact, ContactScene, run_contact_scene
+from dyntorsion.buckling.scene import Scene
+
+A, KAPPA0, DT, T_END = 16.0, 10.0, 0.01, 3.2
+GRIDS = [(100, 2.5e-4), (200, 2.5e-4), (400, 2.5e-4), (800, 2.5e-4), (400, 1.25e-4),
+         (400, 6.25e-5)]  # fmt: skip
+OUT = Path(__file__).resolve().parents[1] / "data" / "contact" / "first_contact.json"
+KEYS = ("first_contact_t", "max_link_gap_turns", "max_cell_bend", "energy_residual",
+        "max_penetration_over_D", "stopped", "wall_time")  # fmt: skip
+
+
+def params() -> dict:
+    return {"a": A, "kappa0": KAPPA0, "dt": DT, "t_end": T_END,
+            "grids": [list(g) for g in GRIDS], "contact": Contact().params()}  # fmt: skip
+
+
+def code() -> dict:
+    return {"dyntorsion": __version__,
+            "script_sha256": hashlib.sha256(Path(__file__).read_bytes()).hexdigest()}  # fmt: skip
+
+
+def write(record: dict) -> None:
+    OUT.parent.mkdir(parents=True, exist_ok=True)
+    with tempfile.NamedTemporaryFile("w", dir=OUT.parent, delete=False) as f:
+        json.dump(record, f, indent=1)
+    os.replace(f.name, OUT)
+
+
+def main() -> int:
+    record = {"params": params(), "code": code(), "runs": []}
+    if OUT.exists():
+        old = json.loads(OUT.read_text())
+        if old.get("params") == record["params"] and old.get("code") == record["code"]:
+            record = old
+    done = {(r["n_cells"], r["max_step"]) for r in record["runs"]}
+    for n, step in GRIDS:
+        if (n, step) in done:
+            continue
+        tick = time.perf_counter()
+        scene = Scene(a=A, kappa0=KAPPA0, t_end=T_END, n_cells=n, dt=DT)
+        res = run_contact_scene(ContactScene(scene, Contact(max_step=step))).result()
+        row = {"n_cells": n, "max_step": step, **{k: res[k] for k in KEYS}}
+        record["runs"].append(row)
+        write(record)
+        print(f"N = {n:4d} max_step {step:.3g}: first contact {row['first_contact_t']} s, "
+              f"Lk - Tw - Wr {row['max_link_gap_turns']:.4f} turns, cell bend "
+              f"{row['max_cell_bend']:.3f} rad ({time.perf_counter() - tick:.0f} s)", flush=True)  # fmt: skip
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
