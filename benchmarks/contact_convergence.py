@@ -11,7 +11,11 @@ and at N = 400 the longest substep halved twice.  The scene's step is 0.01 s thr
 (at a = 16 the driven end turns 0.16 rad in it, so every step is crossed in substeps:
 the step that matters is the substep).
 
-Run: ``python benchmarks/contact_convergence.py`` (about 15 min on one core).
+Past the first contact (``PAST``): N = 200 at the paper's lambda_inf = -1 and N = 400 with
+lambda_inf = -0.8 in time, each to a few tenths of a second past it; their whole results
+(energy budget, drifts of the centreline, cost) are kept.
+
+Run: ``python benchmarks/contact_convergence.py`` (about 25 min on one core).
 """
 
 from __future__ import annotations
@@ -26,10 +30,12 @@ from pathlib import Path
 from dyntorsion import __version__
 from dyntorsion.beyond.contact.run import Contact, ContactScene, run_contact_scene
 from dyntorsion.buckling.scene import Scene
+from dyntorsion.genalpha.scheme import Scheme
 
 A, KAPPA0, DT, T_END = 16.0, 10.0, 0.01, 3.2
 GRIDS = [(50, 2.5e-4), (100, 2.5e-4), (200, 2.5e-4), (400, 2.5e-4), (800, 2.5e-4), (400, 1.25e-4),
          (400, 6.25e-5)]  # fmt: skip
+PAST = [(200, -1.0, 3.3), (400, -0.8, 3.45)]  # N, lambda_inf in time, end time
 OUT = Path(__file__).resolve().parents[1] / "data" / "contact" / "first_contact.json"
 KEYS = ("first_contact_t", "max_link_gap_turns", "max_cell_bend", "energy_residual",
         "max_penetration_over_D", "stopped", "wall_time")  # fmt: skip
@@ -37,7 +43,8 @@ KEYS = ("first_contact_t", "max_link_gap_turns", "max_cell_bend", "energy_residu
 
 def params() -> dict:
     return {"a": A, "kappa0": KAPPA0, "dt": DT, "t_end": T_END,
-            "grids": [list(g) for g in GRIDS], "contact": Contact().params()}  # fmt: skip
+            "grids": [list(g) for g in GRIDS], "past": [list(p) for p in PAST],
+            "contact": Contact().params()}  # fmt: skip
 
 
 def code() -> dict:
@@ -53,7 +60,7 @@ def write(record: dict) -> None:
 
 
 def main() -> int:
-    record = {"params": params(), "code": code(), "runs": []}
+    record = {"params": params(), "code": code(), "runs": [], "past": []}
     if OUT.exists():
         old = json.loads(OUT.read_text())
         if old.get("params") == record["params"] and old.get("code") == record["code"]:
@@ -71,6 +78,20 @@ def main() -> int:
         print(f"N = {n:4d} max_step {step:.3g}: first contact {row['first_contact_t']} s, "
               f"Lk - Tw - Wr {row['max_link_gap_turns']:.4f} turns, cell bend "
               f"{row['max_cell_bend']:.3f} rad ({time.perf_counter() - tick:.0f} s)", flush=True)  # fmt: skip
+    done = {(r["n_cells"], r["lam_t"]) for r in record["past"]}
+    for n, lam_t, t_end in PAST:
+        if (n, lam_t) in done:
+            continue
+        scene = Scene(a=A, kappa0=KAPPA0, t_end=t_end, n_cells=n, dt=DT,
+                      scheme=Scheme(lam_t=lam_t))  # fmt: skip
+        res = run_contact_scene(ContactScene(scene, Contact())).result()
+        record["past"].append({"n_cells": n, "lam_t": lam_t, "t_end": t_end, "result": res})
+        write(record)
+        print(
+            f"past contact, N = {n}, lam_t = {lam_t}: {res['stopped'][:60]} at "
+            f"{res['t_last']} s ({res['wall_time']:.0f} s)",
+            flush=True,
+        )
     return 0
 
 
