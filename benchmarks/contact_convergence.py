@@ -28,6 +28,7 @@ import time
 from pathlib import Path
 
 from dyntorsion import __version__
+from dyntorsion.app.cli_rtol import result_json
 from dyntorsion.beyond.contact.run import Contact, ContactScene, run_contact_scene
 from dyntorsion.buckling.scene import Scene
 from dyntorsion.genalpha.scheme import Scheme
@@ -72,7 +73,7 @@ def main() -> int:
         tick = time.perf_counter()
         scene = Scene(a=A, kappa0=KAPPA0, t_end=T_END, n_cells=n, dt=DT)
         res = run_contact_scene(ContactScene(scene, Contact(max_step=step))).result()
-        row = {"n_cells": n, "max_step": step, **{k: res[k] for k in KEYS}}
+        row = json.loads(result_json({"n_cells": n, "max_step": step, **{k: res[k] for k in KEYS}}))
         record["runs"].append(row)
         write(record)
         print(f"N = {n:4d} max_step {step:.3g}: first contact {row['first_contact_t']} s, "
@@ -85,6 +86,7 @@ def main() -> int:
         scene = Scene(a=A, kappa0=KAPPA0, t_end=t_end, n_cells=n, dt=DT,
                       scheme=Scheme(lam_t=lam_t))  # fmt: skip
         res = run_contact_scene(ContactScene(scene, Contact())).result()
+        res = json.loads(result_json(res))  # numpy scalars as Python ones, NaN as null
         record["past"].append({"n_cells": n, "lam_t": lam_t, "t_end": t_end, "result": res})
         write(record)
         print(
