@@ -4,7 +4,8 @@ past the onset (issue 33, item 3), with the implicit contact of
 first contact), and the time of first contact, Lk - Tw - Wr at its largest, the largest
 bending within a cell and the energy residual written to
 ``data/contact/first_contact.json`` (atomically, after every run: an interrupted sweep
-resumes where it stopped when the parameters and the script are unchanged).
+resumes where it stopped when the parameters, the script and the code fingerprint of the
+contact runs are unchanged).
 
 Grids: N = 50 (the "quick" grid), 100, 200, 400, 800 at the default longest substep near contact (2.5e-4 s),
 and at N = 400 the longest substep halved twice.  The scene's step is 0.01 s throughout
@@ -32,6 +33,7 @@ from dyntorsion.app.cli_rtol import result_json
 from dyntorsion.beyond.contact.run import Contact, ContactScene, run_contact_scene
 from dyntorsion.buckling.scene import Scene
 from dyntorsion.genalpha.scheme import Scheme
+from dyntorsion.store.fingerprint import code_fingerprint
 
 A, KAPPA0, DT, T_END = 16.0, 10.0, 0.01, 3.2
 GRIDS = [(50, 2.5e-4), (100, 2.5e-4), (200, 2.5e-4), (400, 2.5e-4), (800, 2.5e-4), (400, 1.25e-4),
@@ -48,9 +50,15 @@ def params() -> dict:
             "contact": Contact().params()}  # fmt: skip
 
 
+#: where the runs' computation starts: the record carries the fingerprint of every package
+#: definition reachable from here (:mod:`dyntorsion.store.fingerprint`)
+ROOTS = ("dyntorsion.beyond.contact.run:run_contact_scene",)
+
+
 def code() -> dict:
     return {"dyntorsion": __version__,
-            "script_sha256": hashlib.sha256(Path(__file__).read_bytes()).hexdigest()}  # fmt: skip
+            "script_sha256": hashlib.sha256(Path(__file__).read_bytes()).hexdigest(),
+            "code_fingerprint": code_fingerprint(ROOTS)}  # fmt: skip
 
 
 def write(record: dict) -> None:
