@@ -21,7 +21,13 @@ def record():
 
 
 def test_the_record_is_current_and_complete(record):
+    from dyntorsion.store.fingerprint import code_fingerprint
+
     assert record["code"]["script_sha256"] == hashlib.sha256(SCRIPT.read_bytes()).hexdigest()
+    roots = ("dyntorsion.beyond.contact.run:run_contact_scene",)  # the script's ROOTS
+    assert record["code"]["code_fingerprint"] == code_fingerprint(roots), (
+        "the contact code changed since the record: rerun benchmarks/contact_convergence.py"
+    )
     grids = {(r["n_cells"], r["max_step"]) for r in record["runs"]}
     assert grids == {tuple(g) for g in record["params"]["grids"]}
     assert {(p["n_cells"], p["lam_t"]) for p in record["past"]} == {
