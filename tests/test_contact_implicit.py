@@ -185,8 +185,8 @@ def test_the_a16_loop_closes_without_passage_on_n200():
     budget closed to 0.13 % of the work, Lk - Tw - Wr up to 0.092 turns (issue 33's
     0.01 NOT met: the 12 fields drift from the time route in the whip; pinned as
     measured), 262 solves retried shorter, the shortest substep 7.8e-6 s, 8.6 Newton
-    iterations a contact step.  Beyond about 3.25 s the N = 200 run fails at the
-    shortest substep (the loop's curvature reaches 1.5 rad a cell: under-resolved).
+    iterations a contact step.  Beyond about 3.25 s the N = 200 run stops as
+    under-resolved (one step puts 2.24 rad of bending into a cell).
     (About 50 s.)"""
     from dyntorsion.beyond.contact.run import Contact, ContactScene, run_contact_scene
     from dyntorsion.buckling.scene import Scene
