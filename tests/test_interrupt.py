@@ -39,7 +39,9 @@ def test_a_serial_sweep_stops_cleanly_on_a_signal_and_resumes(tmp_path, sig, sta
         "--quiet",
     ]
     env = {k: v for k, v in os.environ.items() if k != "DYNTORSION_DATA"}
-    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+    # a test run started as a background job ignores SIGINT, and the sweep would inherit it
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))  # fmt: skip
     deadline = time.monotonic() + 240
     while not _records(store) and proc.poll() is None and time.monotonic() < deadline:
         time.sleep(0.05)

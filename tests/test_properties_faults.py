@@ -69,6 +69,21 @@ def test_signals_in_a_compiled_block_are_noted_and_the_first_reraised_once(sigs)
             signal.signal(s, h)
 
 
+def test_a_signal_ignored_on_entry_stays_ignored():
+    """A background job's SIGINT is ignored (SIG_IGN): the block leaves it so, notes
+    nothing and re-raises nothing (before, it noted the signal and the run's internal stop
+    escaped: the re-raise went into SIG_IGN)."""
+    old = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        with deferred_signals() as caught:
+            assert signal.getsignal(signal.SIGINT) is signal.SIG_IGN
+            signal.raise_signal(signal.SIGINT)
+            assert caught == []
+        assert signal.getsignal(signal.SIGINT) is signal.SIG_IGN
+    finally:
+        signal.signal(signal.SIGINT, old)
+
+
 @settings(max_examples=FEW)
 @given(st.floats(0.0, 0.4))
 def test_an_interrupted_run_raises_keyboardinterrupt_and_the_next_run_works(delay):

@@ -34,14 +34,15 @@ def deferred_signals():
     compiled chunks.  A Python-level exception raised while compiled code returns to
     Python crashed the process (issue 37: Ctrl-C and SIGTERM gave signal 11); a handler
     that only notes the signal lets the chunk return normally.  Outside the main thread
-    (where handlers cannot be set) nothing changes."""
+    (where handlers cannot be set) nothing changes, nor for a signal ignored on entry (a
+    background job's SIGINT): it stays ignored."""
     caught: list[int] = []
     if threading.current_thread() is not threading.main_thread():
         yield caught
         return
-    old = {s: signal.getsignal(s) for s in _DEFERRED}
+    old = {s: h for s in _DEFERRED if (h := signal.getsignal(s)) is not signal.SIG_IGN}
     try:  # a signal between two installs still finds the old handlers restored
-        for s in _DEFERRED:
+        for s in old:
             signal.signal(s, lambda signum, frame: caught.append(signum))
         yield caught
     finally:
