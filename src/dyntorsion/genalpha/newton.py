@@ -17,7 +17,15 @@ from .discrete import factor, residual, solve_neg
 if TYPE_CHECKING:
     from .run import Run
 
-__all__ = ["Newton", "NewtonOptions", "Status", "Outcome", "ConvergenceError"]
+__all__ = [
+    "Newton",
+    "NewtonOptions",
+    "Status",
+    "Outcome",
+    "ConvergenceError",
+    "correction_norm",
+    "axpy_scaled",
+]
 
 
 class Status(IntEnum):
@@ -187,7 +195,7 @@ class ConvergenceError(RuntimeError):
 
 # ----------------------------------------------------------------------------- kernels
 @jit
-def _norm(dx, y, ys):
+def correction_norm(dx, y, ys):
     """RMS of the correction relative to max(|y|, yscale)  (dx in scaled units)."""
     N1, nf = dx.shape
     acc = 0.0
@@ -200,7 +208,7 @@ def _norm(dx, y, ys):
 
 
 @jit
-def _axpy_scaled(y, lam, dx, ys, out):
+def axpy_scaled(y, lam, dx, ys, out):
     """out = y + lam * dx * yscale."""
     N1, nf = y.shape
     for j in range(N1):
@@ -265,21 +273,21 @@ def solve_step(F, dF, con, gL, gR, w, fac, opts):
     theta_prev = np.inf
     carried = -1.0  # the norm of dx at y when the last iteration left them (else -1)
     for it in range(opts.max_iter):
-        nd = carried if carried >= 0.0 else _norm(dx, y, ys)
+        nd = carried if carried >= 0.0 else correction_norm(dx, y, ys)
         carried = -1.0
         if not math.isfinite(nd):
             return Outcome(_NOT_FINITE, it, nres, nfact, res)
         if nd <= tol:
-            _axpy_scaled(y, 1.0, dx, ys, y)
+            axpy_scaled(y, 1.0, dx, ys, y)
             return Outcome(_CONVERGED, it + 1, nres, nfact, res)
         while True:
-            _axpy_scaled(y, lam, dx, ys, yt)
+            axpy_scaled(y, lam, dx, ys, yt)
             rest = residual(F, dF, con, gL, gR, yt, w, rt, False)
             nres += 1
             ndb = np.inf
             if math.isfinite(rest):
                 solve_neg(fac, rt, dxb)
-                ndb = _norm(dxb, yt, ys)
+                ndb = correction_norm(dxb, yt, ys)
             theta = ndb / nd
             done = _small(ndb, theta, theta_prev, lam, tol, opts.contraction)
             if theta <= 1.0 - 0.25 * lam or done:
@@ -292,10 +300,10 @@ def solve_step(F, dF, con, gL, gR, w, fac, opts):
                     return Outcome(status, it, nres, nfact, res)
                 nfact += 1
                 fresh = True
-                nd = _norm(dx, y, ys)
+                nd = correction_norm(dx, y, ys)
                 lam = 1.0
                 if nd <= tol:
-                    _axpy_scaled(y, 1.0, dx, ys, y)
+                    axpy_scaled(y, 1.0, dx, ys, y)
                     return Outcome(_CONVERGED, it + 1, nres, nfact, res)
                 continue
             # NLEQ1's estimate of the damping factor from the simplified correction
@@ -319,7 +327,7 @@ def solve_step(F, dF, con, gL, gR, w, fac, opts):
         r[:] = rt
         res = rest
         if done:
-            _axpy_scaled(y, 1.0, dxb, ys, y)
+            axpy_scaled(y, 1.0, dxb, ys, y)
             return Outcome(_CONVERGED, it + 2, nres, nfact, res)
         if lam == 1.0 and theta <= opts.theta_reuse and opts.reuse:
             dx[:, :] = dxb
