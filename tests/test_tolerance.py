@@ -145,8 +145,9 @@ def test_sweep_rtol_runs_each_rate_and_caches_the_rungs(tmp_path, capsys):
 def test_the_hold_out_sets_are_covered():
     """Issue 34's honesty check on the committed records (presets tolerance-holdout and
     tolerance-holdout-2): on at least 60 scenes of each set, every one buckled on every
-    rung, the fine rung's estimate of t_c covers its true error (against N = 400) in at
-    least 95 % of the scenes, and the chooser's answers at rtol 0.005 are covered as often."""
+    rung, the fine rung's estimate of t_c covers its true error (against N = 800, preset
+    tolerance-reference) in at least 95 % of the scenes, and the chooser's answers at
+    rtol 0.005 are covered as often."""
     from dyntorsion.studies import tolerance_study as TS
 
     for name in TS.SETS:
@@ -158,3 +159,25 @@ def test_the_hold_out_sets_are_covered():
         met = c[c.met]
         assert len(met) > len(c) / 2
         assert (met.t_c_covered & met.kappa3_covered).mean() >= 0.95
+
+
+def test_the_reference_is_finer_than_what_it_judges():
+    """The N = 800 reference: the last step of the ladder (N = 400 to 800; about the N = 400
+    rung's error, more than the reference's own) is below half the fine rung's true
+    error in the median (measured 0.016 % against 0.051 % and 0.055 % of t_c), and the fine
+    rung's true error exceeds it in at least three scenes of four (83 % in both sets)."""
+    from dyntorsion.studies import tolerance_study as TS
+
+    ref = TS.reference_error()
+    assert (ref["last step, median"] < 0.5 * ref["fine, true error, median"]).all(), ref
+    assert (ref["fine errors above the last step"] >= 0.75).all(), ref
+
+
+def test_no_multiple_of_an_error_indicator_is_both_safe_and_within_3_times():
+    """Issue 34 asked for estimates covering 95 % and within 3 times the true error in most:
+    for every indicator of :data:`~dyntorsion.studies.tolerance_study.INDICATORS` on both
+    sets, the 95th percentile of true error / indicator exceeds 3 times its median
+    (measured: at least 3.6), so no multiple of it does both (the page says so)."""
+    from dyntorsion.studies import tolerance_study as TS
+
+    assert (TS.spread().to_numpy() > 3.0).all()

@@ -212,6 +212,14 @@ def _holdout(name: str) -> list[Scene]:
     return out + [rungs(scenes[i], len(CELLS) + 1)[-1] for i in HOLDOUT_CHECKED]
 
 
+def reference_scenes(names: tuple[str, ...] = tuple(HOLDOUTS)) -> list[Scene]:
+    """Every scene of the hold-out sets one rung past the reference, N = 800 (the rung
+    the N = 400 reference is judged by, :func:`~dyntorsion.studies.tolerance_study.pairs`)."""
+    from .tolerance import CELLS, rungs
+
+    return [rungs(sc, len(CELLS) + 1)[-1] for name in names for sc in holdout_scenes(name)]
+
+
 #: name -> function returning the scenes; ``make data`` runs them all
 PRESETS: dict[str, Callable[[], list[Scene]]] = {
     "fig10": lambda: _fig10("stated"),
@@ -234,6 +242,7 @@ PRESETS: dict[str, Callable[[], list[Scene]]] = {
     "start-step-grid": _step_grid,
     "tolerance-holdout": lambda: _holdout("tolerance-holdout"),
     "tolerance-holdout-2": lambda: _holdout("tolerance-holdout-2"),
+    "tolerance-reference": reference_scenes,
 }
 
 
