@@ -13,10 +13,14 @@ and at N = 400 the longest substep halved twice.  The scene's step is 0.01 s thr
 the step that matters is the substep).
 
 Past the first contact (``PAST``): N = 200 at the paper's lambda_inf = -1 and N = 400 with
-lambda_inf = -0.8 in time, each to a few tenths of a second past it; their whole results
+lambda_inf = -0.8 in time, each to a few tenths of a second past it; then the two
+centrelines the contact can act on (``Contact.route``: the time route left to run, or
+anchored on the shape of the 12 fields after every step) side by side at N = 400 and 800,
+lambda_inf = -0.8, to t = 3.3 s, and the time route at N = 800 with lambda_inf = -0.9 and
+-1 (how much of the energy residual is the scheme's damping).  Their whole results
 (energy budget, drifts of the centreline, cost) are kept.
 
-Run: ``python benchmarks/contact_convergence.py`` (about 25 min on one core).
+Run: ``python benchmarks/contact_convergence.py`` (about 45 min on one core).
 """
 
 from __future__ import annotations
@@ -38,7 +42,9 @@ from dyntorsion.store.fingerprint import code_fingerprint
 A, KAPPA0, DT, T_END = 16.0, 10.0, 0.01, 3.2
 GRIDS = [(50, 2.5e-4), (100, 2.5e-4), (200, 2.5e-4), (400, 2.5e-4), (800, 2.5e-4), (400, 1.25e-4),
          (400, 6.25e-5)]  # fmt: skip
-PAST = [(200, -1.0, 3.3), (400, -0.8, 3.45)]  # N, lambda_inf in time, end time
+PAST = [(200, -1.0, 3.3, "time"), (400, -0.8, 3.45, "time"), (400, -0.8, 3.3, "time"),
+        (400, -0.8, 3.3, "anchored"), (800, -0.8, 3.3, "time"), (800, -0.8, 3.3, "anchored"),
+        (800, -0.9, 3.3, "time"), (800, -1.0, 3.3, "time")]  # N, lambda_inf, end time, route  # fmt: skip
 OUT = Path(__file__).resolve().parents[1] / "data" / "contact" / "first_contact.json"
 KEYS = ("first_contact_t", "max_link_gap_turns", "max_cell_bend", "energy_residual",
         "max_penetration_over_D", "stopped", "wall_time")  # fmt: skip
@@ -87,18 +93,20 @@ def main() -> int:
         print(f"N = {n:4d} max_step {step:.3g}: first contact {row['first_contact_t']} s, "
               f"Lk - Tw - Wr {row['max_link_gap_turns']:.4f} turns, cell bend "
               f"{row['max_cell_bend']:.3f} rad ({time.perf_counter() - tick:.0f} s)", flush=True)  # fmt: skip
-    done = {(r["n_cells"], r["lam_t"]) for r in record["past"]}
-    for n, lam_t, t_end in PAST:
-        if (n, lam_t) in done:
+    done = {(r["n_cells"], r["lam_t"], r["t_end"], r["route"]) for r in record["past"]}
+    for n, lam_t, t_end, route in PAST:
+        if (n, lam_t, t_end, route) in done:
             continue
         scene = Scene(a=A, kappa0=KAPPA0, t_end=t_end, n_cells=n, dt=DT,
                       scheme=Scheme(lam_t=lam_t))  # fmt: skip
-        res = run_contact_scene(ContactScene(scene, Contact())).result()
+        res = run_contact_scene(ContactScene(scene, Contact(route=route))).result()
         res = json.loads(result_json(res))  # numpy scalars as Python ones, NaN as null
-        record["past"].append({"n_cells": n, "lam_t": lam_t, "t_end": t_end, "result": res})
+        record["past"].append(
+            {"n_cells": n, "lam_t": lam_t, "t_end": t_end, "route": route, "result": res}
+        )
         write(record)
         print(
-            f"past contact, N = {n}, lam_t = {lam_t}: {res['stopped'][:60]} at "
+            f"past contact, N = {n}, lam_t = {lam_t}, {route}: {res['stopped'][:60]} at "
             f"{res['t_last']} s ({res['wall_time']:.0f} s)",
             flush=True,
         )

@@ -163,7 +163,7 @@ def test_a_contact_scene_keeps_the_scene_key_and_adds_the_contact():
      ({"check": float("nan")}, "check"), ({"max_step": 0.0}, "max_step"),
      ({"smooth": 2.0}, "smooth"), ({"min_step": 0.0}, "min_step"),
      ({"min_step": 1e-3, "max_step": 1e-4}, "min_step"),
-     ({"max_cell_bend": 0.0}, "max_cell_bend")],
+     ({"max_cell_bend": 0.0}, "max_cell_bend"), ({"route": "spatial"}, "route")],
 )  # fmt: skip
 def test_bad_contact_numbers_are_refused_by_name(kwargs, word):
     with pytest.raises(ValueError, match=word):
@@ -308,3 +308,25 @@ def test_a_grid_too_coarse_for_the_loop_stops_the_run_saying_what_to_refine():
     for word in ("max_cell_bend is 1e-12 rad", "n_cells >=", "radius", " D on cells of 50 D"):
         assert word in res["stopped"], (word, res["stopped"])
     assert res["max_cell_bend"] > 1e-12 and res["t_last"] < 0.1
+
+
+@pytest.mark.parametrize("anchor", [False, True])
+def test_the_anchored_time_route_carries_one_step_and_its_drift_cannot_accumulate(anchor):
+    """A level whose velocities disagree with its curvatures (the rod straight, every node
+    moving sideways at 1 m/s): the time route moves dt a step while the rebuilt shape stays.
+    Anchored, the time route is set back onto the rebuilt shape after each step and the
+    drift is that of one step; left to run, it grows by dt every step."""
+    from dyntorsion.beyond.contact.centreline import Reconstruction
+
+    n, L, dt = 20, 1.0, 1e-3
+    y = np.zeros((n + 1, 12))
+    y[:, 8] = 10.0  # twisted, straight
+    moving = y.copy()
+    moving[1:-1, 0] = 1.0  # u1 at the inner nodes, body frame
+    rec = Reconstruction(y, L / n, L, anchor=anchor)
+    for k in range(1, 4):
+        rec.update(moving, dt)
+        gap = np.max(np.linalg.norm(rec.tracker.r - rec.r, axis=1))  # u = 0 at the start
+        assert gap == pytest.approx(0.0 if anchor else (k - 0.5) * dt, abs=1e-15)
+    assert rec.drift.anchored is anchor
+    assert rec.drift.time_route == pytest.approx((1.0 if anchor else 2.5) * dt / L, rel=1e-12)

@@ -31,7 +31,10 @@ class _Between:
         #: the implicit contact acts on the time route (:mod:`.centreline`): the geometry of
         #: the law, the writhe and the shapes; the lagged one on the spatial route
         self.time = cs.contact.implicit
-        self.recon = Reconstruction(y0, ds, rod.L, time_route=time_route or self.time)
+        anchor = self.time and cs.contact.route == "anchored"
+        self.recon = Reconstruction(
+            y0, ds, rod.L, time_route=time_route or self.time, anchor=anchor
+        )
         n1 = y0.shape[0]
         self.weights = np.full(n1, ds)
         self.weights[[0, -1]] = 0.5 * ds

@@ -29,8 +29,8 @@ from ...genalpha.discrete import CONSTANTS, WORK, constants, factor, prepare_ste
 from ...genalpha.newton import (
     NEWTON_OPTIONS,
     ConvergenceError,
-    _axpy_scaled,
-    _norm,
+    axpy_scaled,
+    correction_norm,
     solve_step,
 )
 from ...genalpha.plan import Source as EngineSource
@@ -136,16 +136,16 @@ def _contact_newton(system, con, w, fac, gL, gR, sp, pairs, R, V_old, weights, o
             return False, it, src
         w.factored[0] = 1
         woodbury_solve(fac, r, src.C, src.cols, dx)
-        nd = _norm(dx, y, ys)
+        nd = correction_norm(dx, y, ys)
         if not math.isfinite(nd):
             return False, it, src
         if nd <= opts.tol:
-            _axpy_scaled(y, 1.0, dx, ys, y)
+            axpy_scaled(y, 1.0, dx, ys, y)
             src = contact_source(sp, pairs, R, V_old, w_old, y, weights, nf, nbl, rs, ys, False)
             return True, it, src
         lam = 1.0
         for _ in range(6):
-            _axpy_scaled(y, lam, dx, ys, yt)
+            axpy_scaled(y, lam, dx, ys, yt)
             _residual_only(system.F, system.dF, con, gL, gR, w)
             trial = contact_source(sp, pairs, R, V_old, w_old, yt, weights, nf, nbl, rs, ys, False)
             add_to_residual(rt, trial.q, sp, nf, nbl, rs)
@@ -207,6 +207,18 @@ def march_implicit(between, system, scheme, newton, grid, y0, left, right, q_see
     out = Marched(y0, float(grid.t0), 0, "t_end")
     check_every = max(1, int(round(between.c.check / grid.dt)))
 
+    seen = {"steps": -1}
+
+    def motion() -> dict:
+        """The nodes' lab velocities at the known level, their largest speed and spin:
+        computed once per accepted step (the known level changes only there)."""
+        if seen["steps"] != out.steps:
+            V = recon.velocities(w.y_old, True)
+            seen.update(steps=out.steps, V=V,
+                        speed=float(np.max(np.linalg.norm(V, axis=1))),
+                        spin=float(np.max(np.linalg.norm(w.y_old[:, 3:6], axis=1))))  # fmt: skip
+        return seen
+
     def step(lv: _Level, t_new: float, near) -> bool:
         tick = time.perf_counter()
         if state["level"] is not lv:
@@ -225,7 +237,7 @@ def march_implicit(between, system, scheme, newton, grid, y0, left, right, q_see
             out.free_seconds += time.perf_counter() - tick
         else:
             R, _ = recon.frames(True)
-            V_old = recon.velocities(w.y_old, True)
+            V_old = motion()["V"]
             w.y[:, :] = w.y_old + h * w.rate_old  # the rate predictor
             ok, its, src = _contact_newton(
                 system, con, w, fac, gL, gR, lv.sp, near, R, V_old, weights, contact_opts
@@ -252,18 +264,16 @@ def march_implicit(between, system, scheme, newton, grid, y0, left, right, q_see
     def near_pairs(lv: _Level):
         if between.ds * np.sum(np.hypot(w.y_old[:, 6], w.y_old[:, 7])) < STRAIGHT:
             return NO_PAIRS  # no part can reach another while the rod is nearly straight
-        V_old = recon.velocities(w.y_old, True)
-        return candidates(lv.sp.law, recon.frames(True)[1], V_old, lv.h, between.c.fixtures)
+        return candidates(lv.sp.law, recon.frames(True)[1], motion()["V"], lv.h,
+                          between.c.fixtures)  # fmt: skip
 
     def fast(h: float) -> bool:
         """Whether a step h moves a node more than D / 2 or turns a frame by more than
         0.1 rad (the time route's trapezoidal rule, C1, then loses the link: a = 16,
         N = 200 in whole steps of 0.01 s, Lk - Tw - Wr went from 1e-4 to 0.05 turns in the
         whip before the first contact)."""
-        V = recon.velocities(w.y_old, True)
-        travel = h * float(np.max(np.linalg.norm(V, axis=1)))
-        turn = h * float(np.max(np.linalg.norm(w.y_old[:, 3:6], axis=1)))
-        return travel > 0.5 * between.rod.thickness or turn > 0.1
+        m = motion()
+        return h * m["speed"] > 0.5 * between.rod.thickness or h * m["spin"] > 0.1
 
     def failed(t_new: float, h: float) -> str:
         err = ConvergenceError(t_new, out.steps + 1, opts.max_iter, float("nan"),
