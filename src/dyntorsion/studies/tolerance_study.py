@@ -278,8 +278,10 @@ def spread(store: Store | str | Path | None = None) -> pd.DataFrame:
             ratio = true / np.array([f(row) for row in d])
             q95, med = np.quantile(ratio, 0.95), np.median(ratio)
             rows.append({"indicator": label, "set": name, "q95 / median of true / f": q95 / med})
-    table = pd.DataFrame(rows).pivot(index="indicator", columns="set")
-    return table.reindex(list(INDICATORS))
+    table = pd.DataFrame(rows).pivot(
+        index="indicator", columns="set", values="q95 / median of true / f"
+    )
+    return table.reindex(list(INDICATORS)).rename_axis(columns=None)
 
 
 def reference_error(store: Store | str | Path | None = None) -> pd.DataFrame:
