@@ -46,7 +46,7 @@ PAST = [(200, -1.0, 3.3, "time"), (400, -0.8, 3.45, "time"), (400, -0.8, 3.3, "t
         (400, -0.8, 3.3, "anchored"), (800, -0.8, 3.3, "time"), (800, -0.8, 3.3, "anchored"),
         (800, -0.9, 3.3, "time"), (800, -1.0, 3.3, "time")]  # N, lambda_inf, end time, route  # fmt: skip
 OUT = Path(__file__).resolve().parents[1] / "data" / "contact" / "first_contact.json"
-KEYS = ("first_contact_t", "max_link_gap_turns", "max_cell_bend", "energy_residual",
+KEYS = ("first_contact_t", "first_self_contact_t", "first_fixture_contact_t", "max_link_gap_turns", "max_cell_bend", "energy_residual",
         "max_penetration_over_D", "stopped", "wall_time")  # fmt: skip
 
 

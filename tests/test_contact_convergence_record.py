@@ -91,3 +91,14 @@ def test_at_the_papers_lambda_the_run_on_800_cells_meets_every_check_past_contac
     assert r["max_penetration_over_D"] < 0.01
     assert r["max_link_gap_turns"] < 0.01
     assert abs(r["energy_residual"]) < 0.01
+
+
+def test_the_first_contact_is_the_loop_on_an_end_fixture(record):
+    """On every grid the first contact is the loop touching the axis continued beyond a
+    clamp (the closure of the writhe made solid); the rod touches itself later."""
+    touched = [r for r in record["runs"] if r["first_contact_t"] is not None]
+    assert len(touched) >= 5
+    for r in touched:
+        assert r["first_fixture_contact_t"] == r["first_contact_t"]
+    r = _past(record, 800, -1.0, 3.3, "time")
+    assert r["first_fixture_contact_t"] < r["first_self_contact_t"] < r["t_last"]

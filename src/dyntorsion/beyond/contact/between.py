@@ -44,6 +44,9 @@ class _Between:
         self.theta = [0.0, 0.0]
         self.y_old = np.array(y0, float)
         self.first_contact_t, self.max_overlap, self.max_sites, self.sites = None, 0.0, 0, 0
+        #: the first touch of two parts of the rod, and of the rod and an end fixture
+        self.first_self_t: float | None = None
+        self.first_fixture_t: float | None = None
         self.max_cell_bend = 0.0
         self.approach = 0.0
         self.e0 = self._energy(y0)
@@ -124,6 +127,11 @@ class _Between:
         self.max_sites = max(self.max_sites, self.sites)
         if cf.pairs and self.first_contact_t is None:
             self.first_contact_t = float(t)
+        fixture = cf.touching[:, 1] < 0  # (segment, -1 - end) for a fixture
+        if self.first_self_t is None and (~fixture).any():
+            self.first_self_t = float(t)
+        if self.first_fixture_t is None and fixture.any():
+            self.first_fixture_t = float(t)
         if (self.k % self.check_every == 0) if check is None else check:
             self._topology(t, y, self.sites, overlap, cf.energy)
             if self.passage is not None:

@@ -259,6 +259,8 @@ def run_contact_scene(
         "substeps": cs.substeps(),
         "steps": int(between.k),
         "first_contact_t": between.first_contact_t,
+        "first_self_contact_t": between.first_self_t,
+        "first_fixture_contact_t": between.first_fixture_t,
         "max_penetration_over_D": between.max_overlap,
         "contact_sites": between.sites,
         "max_contact_sites": between.max_sites,
