@@ -182,8 +182,6 @@ HOLDOUTS: dict[str, dict[str, Any]] = {
         "loads": (0.25, -0.5),
     },
 }
-#: the scenes of the first hold-out set whose reference is checked one rung finer (N = 800)
-HOLDOUT_CHECKED: tuple[int, ...] = (0, 8, 15)
 
 
 def holdout_scenes(name: str = "tolerance-holdout") -> list[Scene]:
@@ -201,20 +199,17 @@ def holdout_scenes(name: str = "tolerance-holdout") -> list[Scene]:
 
 def _holdout(name: str) -> list[Scene]:
     """Every scene of a hold-out set on the rungs N = 25..400 of
-    :func:`~dyntorsion.studies.tolerance.rungs` (N = 400 is the reference), and for the
-    first set the scenes :data:`HOLDOUT_CHECKED` at N = 800 too."""
+    :func:`~dyntorsion.studies.tolerance.rungs` (their reference, N = 800, is the preset
+    ``tolerance-reference``)."""
     from .tolerance import CELLS, rungs
 
     scenes = holdout_scenes(name)
-    out = [r for sc in scenes for r in rungs(sc, len(CELLS))]
-    if name != "tolerance-holdout":
-        return out
-    return out + [rungs(scenes[i], len(CELLS) + 1)[-1] for i in HOLDOUT_CHECKED]
+    return [r for sc in scenes for r in rungs(sc, len(CELLS))]
 
 
 def reference_scenes(names: tuple[str, ...] = tuple(HOLDOUTS)) -> list[Scene]:
-    """Every scene of the hold-out sets one rung past the reference, N = 800 (the rung
-    the N = 400 reference is judged by, :func:`~dyntorsion.studies.tolerance_study.pairs`)."""
+    """Every scene of the hold-out sets one rung past the ladder, N = 800: the reference
+    the rungs' estimates are judged against (:func:`~dyntorsion.studies.tolerance_study.pairs`)."""
     from .tolerance import CELLS, rungs
 
     return [rungs(sc, len(CELLS) + 1)[-1] for name in names for sc in holdout_scenes(name)]

@@ -7,9 +7,8 @@ N = 25..400 (presets ``tolerance-holdout`` and ``tolerance-holdout-2``, cached i
 ``data/``), the estimated errors of t_c and kappa3 on the ``standard``, ``fine`` and
 N = 400 rungs are set against their true errors, the differences from the reference, the
 onset one rung further, N = 800 (preset ``tolerance-reference``; until 2026-11-26 the
-reference was the N = 400 rung, checked against N = 800 on the scenes
-:data:`~dyntorsion.studies.presets.HOLDOUT_CHECKED` of the first set only: too coarse to
-judge how far an estimate overstates, :func:`reference_error`).  An estimate
+reference was the N = 400 rung, checked against N = 800 on three scenes of the first set
+only: too coarse to judge how far an estimate overstates, :func:`reference_error`).  An estimate
 *covers* when the true error is at most the estimate; its *overstatement* is the
 estimate over the true error.  The chooser itself runs at a tolerance on the same
 records.  The first set was computed with the estimate and the chooser fixed
@@ -33,9 +32,9 @@ import pandas as pd
 from ..model.rod import Rod
 from ..store.location import default_store
 from ..store.results import Store
-from .presets import HOLDOUT_CHECKED, HOLDOUTS, holdout_scenes, preset, reference_scenes
+from .presets import HOLDOUTS, holdout_scenes, preset, reference_scenes
 from .sweep import run_sweep
-from .tolerance import CELLS, error_estimate, onset_within, rung_name, rungs
+from .tolerance import CELLS, VOUCHED, error_estimate, onset_within, rung_name
 
 __all__ = [
     "SETS",
@@ -45,15 +44,12 @@ __all__ = [
     "chooser",
     "coverage",
     "alternatives",
-    "reference_check",
     "reference_error",
     "spread",
 ]
 
 #: the rungs whose estimates are judged
 JUDGED: tuple[int, ...] = (100, 200, 400)
-#: cells of the reference rung, one past the ladder
-REFERENCE = 2 * CELLS[-1]
 #: the hold-out sets, in the order they were computed
 SETS: tuple[str, ...] = tuple(HOLDOUTS)
 
@@ -226,23 +222,6 @@ def alternatives(store: Store | str | Path | None = None) -> pd.DataFrame:
     return pd.DataFrame(rows).pivot(index="rule", columns="set").reindex(list(RULES))
 
 
-def reference_check(store: Store | str | Path | None = None) -> pd.DataFrame:
-    """The reference (N = 400) against N = 800 on the scenes :data:`HOLDOUT_CHECKED`."""
-    scenes = holdout_scenes(SETS[0])
-    fine = [rungs(scenes[i], len(CELLS) + 1)[-2:] for i in HOLDOUT_CHECKED]
-    t = run_sweep(
-        [sc for two in fine for sc in two], store, compute=False, on_stale="error", progress=False
-    )
-    rows = []
-    for j, i in enumerate(HOLDOUT_CHECKED):
-        v400, v800 = t.t_c.iloc[2 * j], t.t_c.iloc[2 * j + 1]
-        rows.append(
-            {"scene": i, "group": group_of(scenes[i]), "a": scenes[i].a, "t_c, N = 400": v400,
-             "t_c, N = 800": v800, "relative difference": abs(v400 / v800 - 1)}
-        )  # fmt: skip
-    return pd.DataFrame(rows)
-
-
 #: error indicators of the ``fine`` rung's t_c from the differences d_K, d_{K-1}, d_{K-2}
 #: between it and the rungs below (:func:`spread`)
 INDICATORS: dict[str, Any] = {
@@ -258,7 +237,7 @@ def _fine_differences(name: str, store: Store | str | Path | None) -> tuple[np.n
     """The true errors of the ``fine`` rung's t_c (against N = 800) and the differences
     (|d_K|, |d_K-1|, |d_K-2|) below it, one row per scene of the hold-out set ``name``."""
     t = _table(name, store)
-    k = CELLS.index(200)
+    k = CELLS.index(VOUCHED)
     v = t.t_c.to_numpy(dtype=float)[: len(holdout_scenes(name)) * len(CELLS)]
     v = v.reshape(-1, len(CELLS))
     true = np.abs(v[:, k] - _references(name, store).t_c.to_numpy(dtype=float))
@@ -323,7 +302,6 @@ def main(argv: list[str] | None = None) -> int:
             run_sweep(preset(name), args.store, jobs=1, progress=False)
             print(name)
             print(coverage(name, args.store, args.rtol))
-        print(reference_check(args.store))
         print(reference_error(args.store))
         print(spread(args.store))
     return 0
