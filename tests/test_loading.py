@@ -23,6 +23,7 @@ from dyntorsion.buckling.loading import (
     history_from_params,
 )
 from dyntorsion.buckling.onset import detect_onset
+from dyntorsion.buckling.turning import TurnHold
 from dyntorsion.model.ends import Ends, IllPosedEndsError
 from dyntorsion.studies import fidelity
 from dyntorsion.studies import sweep as S
@@ -56,7 +57,7 @@ def test_histories_evaluate_what_they_say():
             ("w1", "w2", "w3", "u1", "u2", "u3"),
             "u3 prescribed at both",
         ),
-        (("u1", "u2", "u3", "w1", "w2", "w3"), ENDS["clamped"].right, "must prescribe k3"),
+        (("u1", "u2", "u3", "w1", "w2", "n3"), ENDS["clamped"].right, "must prescribe k3"),
         (("u1", "u2", "u3", "w1", "w2", "k3"), ("w1", "w2", "w3", "u1", "n1", "n3"), "u1 and n1"),
         (("u1", "u2", "u3", "w3", "w2", "k3"), ENDS["clamped"].right, "w3 and k3"),
         (("u1", "u2", "u3", "w1", "k3"), ENDS["clamped"].right, "needs 6"),
@@ -108,10 +109,15 @@ def test_axial_load_starts_in_equilibrium_and_is_applied_at_the_far_end():
 @pytest.mark.parametrize("name", sorted(ENDS))
 def test_every_named_end_set_runs(name):
     t_end = 1.0
-    run = simulate(a=1.6, kappa0=10.0 if name != "clamped-free" else 0.0, ends=name, t_end=t_end,
-                   on_failure="return", **COARSE)  # fmt: skip
+    if ENDS[name].driven == "w3":  # rotation control: the history is the end's spin
+        run = simulate(history=TurnHold(0.1, 0.8, tau=0.1, pretwist=10.0), ends=name,
+                       t_end=t_end, on_failure="return", **COARSE)  # fmt: skip
+        np.testing.assert_allclose(run.omega3_left, run.history(run.t), rtol=1e-9, atol=1e-9)
+    else:
+        run = simulate(a=1.6, kappa0=10.0 if name != "clamped-free" else 0.0, ends=name,
+                       t_end=t_end, on_failure="return", **COARSE)  # fmt: skip
+        np.testing.assert_allclose(run.kappa3_left, run.history(run.t), rtol=1e-9, atol=1e-9)
     assert run.t[-1] == pytest.approx(t_end) and np.all(np.isfinite(run.u3_end))
-    np.testing.assert_allclose(run.kappa3_left, run.history(run.t), rtol=1e-9, atol=1e-9)
 
 
 def test_scenes_with_another_history_or_ends_need_an_explicit_t_end():

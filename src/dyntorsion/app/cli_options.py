@@ -11,6 +11,7 @@ import numpy as np
 from ..buckling.loading import ENDS, AxialLoad, Polynomial, RampHold, Tabulated
 from ..buckling.scene import UNTIL, Scene
 from ..buckling.seed import STATED, Perturbation
+from ..buckling.turning import TurnHold
 from ..model.rod import TABLE1, Rod
 from ..studies import fidelity
 from ..studies.fidelity import LEVELS
@@ -72,7 +73,9 @@ def add_scene_options(p: argparse.ArgumentParser, kappa0: float) -> None:
         default="ramp",
         help="end twist kappa3(0, t): 'ramp' (kappa0 + a t, the paper), 'ramp-hold:HOLD[:TAU]' "
         "(ramp at --a rounded into a hold at HOLD 1/m over TAU s), 'poly:C0,C1,...' "
-        "(sum C_k t^k), 'table:FILE' (two columns t, kappa; t from 0)",
+        "(sum C_k t^k), 'table:FILE' (two columns t, kappa; t from 0); rotation control with "
+        "--ends clamped-turned: 'turn-hold:TURNS,T_TURN[,TAU]' (s = 0 turned by TURNS in "
+        "T_TURN s, then held; --kappa0 the pretwist)",
     )
     g.add_argument("--tension", type=float, default=0.0, help="axial end load [N], > 0 tension")
     g.add_argument("--tension-rate", type=float, default=0.0, help="its rate [N/s]")
@@ -175,6 +178,11 @@ def history_from(args: argparse.Namespace, a: float | None) -> dict:
         )
     if kind == "poly":
         return {"history": Polynomial(tuple(parse_numbers(rest, None, "--history poly")))}
+    if kind == "turn-hold":
+        vals = parse_numbers(rest, None, "--history turn-hold:TURNS,T_TURN[,TAU]")
+        if len(vals) not in (2, 3):
+            raise ValueError("--history turn-hold:TURNS,T_TURN[,TAU] takes two or three numbers")
+        return {"history": TurnHold(*vals, pretwist=args.kappa0)}
     if kind == "table":
         try:
             t, k = np.loadtxt(rest, delimiter=None, unpack=True, ndmin=2)
@@ -184,7 +192,8 @@ def history_from(args: argparse.Namespace, a: float | None) -> dict:
             ) from None
         return {"history": Tabulated(tuple(t), tuple(k))}
     raise ValueError(
-        f"--history={args.history!r}; allowed: ramp, ramp-hold:HOLD[:TAU], poly:C0,C1,..., table:FILE"
+        f"--history={args.history!r}; allowed: ramp, ramp-hold:HOLD[:TAU], poly:C0,C1,..., "
+        "table:FILE, turn-hold:TURNS,T_TURN[,TAU]"
     )
 
 

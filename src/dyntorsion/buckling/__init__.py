@@ -3,6 +3,7 @@
 * :mod:`.scene` -- a :class:`~.scene.Scene` is everything one buckling run depends on (rod,
   ends, end-twist history, axial load, seed, grid, scheme); :func:`~.scene.run_scene` runs it;
 * :mod:`.loading` -- end-twist histories (the ramp of eq 30 and others) and axial loads;
+* :mod:`.turning` -- rotation control: the end turned by a prescribed angle (:class:`~.turning.TurnHold`);
 * :mod:`.seed` -- the perturbative force that seeds buckling;
 * :mod:`.simulation` -- the 12-field rod under eq (30), integrated by the engine of section 3;
 * :mod:`.stops` -- compiled stop tests: self-contact, crossing, the first peak;

@@ -20,7 +20,6 @@ from __future__ import annotations
 import functools
 import hashlib
 import inspect
-import math
 import textwrap
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
@@ -29,6 +28,8 @@ from typing import Any
 import numpy as np
 
 from ..model.ends import ENDS, EQ30, Ends, IllPosedEndsError, ends, ends_from_params
+from .history import History, _finite
+from .turning import TurnHold
 
 __all__ = [
     "History",
@@ -47,45 +48,6 @@ __all__ = [
     "history_from_params",
     "ends_from_params",
 ]
-
-
-def _finite(name: str, value: Any) -> float:
-    if isinstance(value, bool) or not isinstance(value, int | float | np.floating | np.integer):
-        raise TypeError(f"{name}={value!r} must be a real number")
-    x = float(value)
-    if not math.isfinite(x):
-        raise ValueError(f"{name}={value!r} must be finite")
-    return x
-
-
-# ================================================================= twist histories
-class History:
-    """An end-twist history kappa3(0, t) [1/m]: ``h(t)`` on an array of times."""
-
-    kind: str = ""
-
-    def __call__(self, t: np.ndarray) -> np.ndarray:
-        raise NotImplementedError
-
-    def params(self) -> dict[str, Any]:
-        raise NotImplementedError
-
-    @property
-    def rate(self) -> float | None:
-        """The constant loading rate a of a ramp (eq 33's a), None for other histories."""
-        return None
-
-    @property
-    def kappa0(self) -> float:
-        return float(self(np.zeros(1))[0])
-
-    def label(self) -> str:
-        return (
-            self.kind
-            + "("
-            + ", ".join(f"{k}={v}" for k, v in self.params().items() if k != "kind")
-            + ")"
-        )
 
 
 @dataclass(frozen=True)
@@ -383,6 +345,8 @@ def history_from_params(p: Mapping[str, Any]) -> History:
         return RampHold(**q)
     if kind == "tabulated":
         return Tabulated(tuple(q["t"]), tuple(q["kappa"]))
+    if kind == "turn-hold":
+        return TurnHold(**q)
     if kind == "custom":
         raise ValueError(
             f"history {q.get('name')!r} is a custom function: rebuild its Scene in Python "
@@ -390,7 +354,7 @@ def history_from_params(p: Mapping[str, Any]) -> History:
         )
     raise ValueError(
         f"history kind={kind!r}; allowed: ramp, smooth-start, polynomial, ramp-hold, tabulated, "
-        "custom"
+        "turn-hold, custom"
     )
 
 

@@ -135,6 +135,7 @@ class Scene:
         set_(self, "rotary_inertia_scale", real("rotary_inertia_scale", self.rotary_inertia_scale))
         set_(self, "tension", _load(self.tension))
         set_(self, "ends", _ends(self.ends))
+        self.ends.check_history(self.twist)
         Cosserat(self.rod, terms=dict(self.terms), rotary_inertia_scale=self.rotary_inertia_scale)
         if self.t_end is not None and not real("t_end", self.t_end, " [s]") > 0:
             raise ValueError(f"t_end={self.t_end!r} must be > 0 (or None for the horizon rule)")

@@ -94,6 +94,11 @@ def _seed_sources(model, seed: Perturbation, s: np.ndarray, length: float, hist)
     impulse's switch), or, fixed in the lab frame, a field turned each level by the
     straight rod's quasi-static twist (:class:`~.seed.Perturbation`)."""
     f = seed.force(s, length)
+    if seed.frame != "body" and hist.quantity != "twist":
+        raise ValueError(
+            f"seed frame={seed.frame!r} turns the seed with the end twist kappa3(0, t); a "
+            f"{hist.quantity} history gives none: use frame='body'"
+        )
     if seed.frame == "body":
         g = None if seed.duration is None else seed.time_factor
         return Sources(separable=(model.external_force(f), g))
@@ -209,7 +214,7 @@ def simulate(
     if start not in STARTS:
         raise ValueError(f"start={start!r}; allowed: {', '.join(map(repr, STARTS))}")
     if start == "pretwisted":
-        y0[:, system.index("k3")] = hist(np.zeros(1))[0]
+        y0[:, system.index("k3")] = hist.initial_twist
     y0[:, system.index("n3")] = load(np.zeros(1))[0]
     left, right = end_set.rows(system, hist, load)
     sources = _seed_sources(model, perturbation, s, rod.L, hist)

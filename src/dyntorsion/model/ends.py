@@ -28,8 +28,9 @@ class IllPosedEndsError(ValueError):
 class Ends:
     """Six prescribed fields at each end (body frame, section 2).
 
-    The left end must prescribe ``k3`` (the twist history); the right end prescribes
-    ``n3`` (the axial load) unless it holds ``u3``.  All other prescribed fields are 0.
+    The left end must prescribe ``k3`` (the twist history: moment control, the paper's)
+    or ``w3`` (the spin history: rotation control); the right end prescribes ``n3`` (the
+    axial load) unless it holds ``u3``.  All other prescribed fields are 0.
     """
 
     name: str
@@ -52,8 +53,11 @@ class Ends:
                 raise IllPosedEndsError(
                     f"{side} end prescribes {len(names)} fields; the 12-field rod needs 6 at each end"
                 )
-        if "k3" not in self.left:
-            raise IllPosedEndsError("the left end must prescribe k3 (the end-twist history)")
+        if "k3" not in self.left and "w3" not in self.left:
+            raise IllPosedEndsError(
+                "the left end must prescribe k3 (the end-twist history, moment control) or w3 "
+                "(the end's spin history, rotation control)"
+            )
         if "u3" in self.left and "u3" in self.right:
             raise IllPosedEndsError(
                 "u3 prescribed at both ends: inextensibility (u3_s = k2 u1 - k1 u2) fixes the "
@@ -79,12 +83,29 @@ class Ends:
     def holds_axial_load(self) -> bool:
         return "n3" in self.right
 
+    @property
+    def driven(self) -> str:
+        """The left end's history field: ``"k3"`` (the twist) or ``"w3"`` (the spin)."""
+        return "k3" if "k3" in self.left else "w3"
+
+    def check_history(self, history: Any) -> None:
+        """Refuse a history whose ``quantity`` (``"twist"`` [1/m] or ``"spin"`` [rad/s]) is
+        not the field the left end prescribes (``k3`` or ``w3``)."""
+        quantity = getattr(history, "quantity", "twist")
+        wanted = {"k3": "twist", "w3": "spin"}[self.driven]
+        if quantity != wanted:
+            raise IllPosedEndsError(
+                f"ends {self.name!r} prescribe {self.driven} at s = 0, so the history must be "
+                f"a {wanted} history; got a {quantity} history"
+                + (" (ends='clamped-turned' take a spin history)" if wanted == "twist" else "")
+            )
+
     def rows(self, system, history: Callable[[Any], Any], load: Callable[[Any], Any]):
         """The engine's boundary rows: (left, right) :class:`~dyntorsion.genalpha.Boundary`."""
-
-        e_k3 = np.zeros(6)
-        e_k3[self.left.index("k3")] = 1.0
-        left = Boundary.fields(system, list(self.left), lambda t: np.outer(history(t), e_k3))
+        self.check_history(history)
+        e_h = np.zeros(6)
+        e_h[self.left.index(self.driven)] = 1.0
+        left = Boundary.fields(system, list(self.left), lambda t: np.outer(history(t), e_h))
         if self.holds_axial_load and not load.is_zero:
             e_n3 = np.zeros(6)
             e_n3[self.right.index("n3")] = 1.0
@@ -123,6 +144,14 @@ ENDS: dict[str, Ends] = {
             ("u1", "u2", "u3", "w1", "w2", "k3"),
             ("n1", "n2", "n3", "k1", "k2", "k3"),
             "s = L free: no force (but the axial load) and no moment",
+        ),
+        Ends(
+            "clamped-turned",
+            ("u1", "u2", "u3", "w1", "w2", "w3"),
+            ("w1", "w2", "w3", "u1", "u2", "n3"),
+            "rotation control: s = 0 clamped and turned about its axis at the prescribed spin "
+            "w3(0, t) (a spin history, e.g. TurnHold); s = L as eq (30), held in rotation and "
+            "laterally, free to slide axially under n3 = T",
         ),
         Ends(
             "pinned-follower",

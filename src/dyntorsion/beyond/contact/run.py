@@ -157,10 +157,17 @@ class ContactScene:
             raise TypeError(f"scene={self.scene!r} must be a dyntorsion.buckling.Scene")
         if not isinstance(self.contact, Contact):
             raise TypeError(f"contact={self.contact!r} must be a Contact")
-        if self.scene.ends.name not in ("clamped",):
+        if not self.scene.seed.constant:
+            raise ValueError(
+                f"seed frame={self.scene.seed.frame!r}, duration={self.scene.seed.duration!r}: a "
+                "run past contact applies the seed as a constant force in the body frame; give "
+                "frame='body' and duration=None"
+            )
+        if self.scene.ends.name not in ("clamped", "clamped-turned"):
             raise ValueError(
                 f"ends={self.scene.ends.name!r}: past contact needs the ends of eq 30 "
-                "('clamped'): both ends on the e3 axis close the writhe"
+                "('clamped') or their rotation control ('clamped-turned'): both ends on the "
+                "e3 axis close the writhe"
             )
 
     def params(self) -> dict[str, Any]:
@@ -230,7 +237,7 @@ def run_contact_scene(
     s = np.linspace(0.0, rod.L, n + 1)
     hist, load = scene.twist, scene.tension
     y0 = np.zeros((n + 1, 12))
-    y0[:, system.index("k3")] = hist(np.zeros(1))[0]
+    y0[:, system.index("k3")] = hist.initial_twist
     y0[:, system.index("n3")] = load(np.zeros(1))[0]
     left, right = scene.ends.rows(system, hist, load)
     q_seed = model.external_force(scene.seed.force(s, rod.L))
