@@ -43,7 +43,7 @@ class _Between:
         self.check_every, self.k = check_every, 0
         self.theta = [0.0, 0.0]
         self.y_old = np.array(y0, float)
-        self.first_contact_t, self.max_overlap, self.max_sites, self.sites = None, 0.0, 0, 0
+        self.max_overlap, self.max_sites, self.sites = 0.0, 0, 0
         #: the first touch of two parts of the rod, and of the rod and an end fixture
         self.first_self_t: float | None = None
         self.first_fixture_t: float | None = None
@@ -61,6 +61,12 @@ class _Between:
             "energy", "work")}  # fmt: skip
         self.worst_gap, self.last_gap, self.passage = 0.0, 0.0, None
         self._topology(0.0, y0, 0, 0.0)
+
+    @property
+    def first_contact_t(self) -> float | None:
+        """The first touch of any kind: the earlier of the rod on itself and on a fixture."""
+        times = [t for t in (self.first_self_t, self.first_fixture_t) if t is not None]
+        return min(times) if times else None
 
     def _energy(self, y) -> float:
         e = self.model.energy_density(y)
@@ -125,8 +131,6 @@ class _Between:
         self.approach = max(self.approach, cf.approach)
         self.sites = contact_sites(cf.touching)
         self.max_sites = max(self.max_sites, self.sites)
-        if cf.pairs and self.first_contact_t is None:
-            self.first_contact_t = float(t)
         fixture = cf.touching[:, 1] < 0  # (segment, -1 - end) for a fixture
         if self.first_self_t is None and (~fixture).any():
             self.first_self_t = float(t)
