@@ -46,6 +46,7 @@ from .between import _Between, _lagged
 from .damped import damped_system
 from .law import LawParams, lag_cost
 from .marching import march_implicit
+from .plectoneme import plectoneme_turns
 
 __all__ = ["Contact", "ContactScene", "ContactRun", "PassageError", "run_contact_scene"]
 
@@ -271,6 +272,7 @@ def run_contact_scene(
         "max_penetration_over_D": between.max_overlap,
         "contact_sites": between.sites,
         "max_contact_sites": between.max_sites,
+        "plectoneme_turns": plectoneme_turns(h["r"][-1], rod.thickness, c.min_arc).turns,
         "link_turns": float(h["link"][-1]),
         "twist_turns": float(h["twist"][-1]),
         "writhe_turns": float(h["writhe"][-1]),
