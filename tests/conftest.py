@@ -47,7 +47,10 @@ def _committed_data_untouched():
     store = Path(__file__).resolve().parents[1] / "data" / "scenes"
 
     def state():
-        return {p.name: p.stat().st_mtime_ns for p in store.glob("*")} if store.is_dir() else {}
+        # in-flight atomic writes (".*.tmp") come and go: only records count
+        if not store.is_dir():
+            return {}
+        return {p.name: p.stat().st_mtime_ns for p in store.glob("*") if not p.name.startswith(".")}
 
     before = state()
     yield

@@ -58,7 +58,7 @@ class _Between:
         self.lk0 = tw0 + writhe_turns(closed_polygon(self.recon.r))
         self.hist: dict[str, list] = {k: [] for k in (
             "t", "link", "twist", "writhe", "sites", "overlap_over_D", "contact_energy",
-            "energy", "work")}  # fmt: skip
+            "energy", "work", "end_moment")}  # fmt: skip
         self.worst_gap, self.last_gap, self.passage = 0.0, 0.0, None
         self._topology(0.0, y0, 0, 0.0)
 
@@ -180,7 +180,8 @@ class _Between:
         h = self.hist
         for name, val in (("t", t), ("link", lk), ("twist", tw), ("writhe", wr), ("sites", sites),
                           ("overlap_over_D", overlap), ("contact_energy", e_contact),
-                          ("energy", self._energy(y) - self.e0), ("work", sum(self.work.values()))):  # fmt: skip
+                          ("energy", self._energy(y) - self.e0), ("work", sum(self.work.values())),
+                          ("end_moment", self.rod.C * y[0, 8])):  # fmt: skip
             h[name].append(float(val))
         self.shapes.append(r.copy())
         gap, jump = lk - tw - wr, lk - tw - wr - self.last_gap

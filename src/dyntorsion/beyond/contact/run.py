@@ -194,7 +194,7 @@ class ContactScene:
 @dataclass
 class ContactRun:
     """The outcome: the engine's run, the histories at the checks (t, Lk, Tw, Wr, contact
-    sites, max overlap / D, energies) and the summary :meth:`result`."""
+    sites, max overlap / D, energies, the twisting moment C kappa3 at s = 0) and the summary :meth:`result`."""
 
     scene: ContactScene
     run: Any

@@ -1,0 +1,161 @@
+"""PyElastica's plectoneme scene in dyntorsion (issue 33, item 5): dyntorsion's half of the
+side-by-side comparison, written to ``data/bench/dyntorsion_plectoneme.json``.
+
+The scene of ``benchmarks/pyelastica_plectoneme.py`` (its constants are imported from
+there: one place for them), in dyntorsion's terms:
+
+* rod: L = 1 m, radius 0.025 m, E = 1e6 Pa, G = E / 1.5 (Poisson's ratio -0.25), mass
+  1 kg (rho = 1 / (pi r^2 L)).  dyntorsion's rod is a Kirchhoff rod (inextensible,
+  unshearable): PyElastica's axial and shear stiffnesses, E A = 1963 N and of order
+  G A = 1309 N, are 4e3-6e3 times B / L^2 = 0.31 N here, so the neglected strains are
+  small until the contact loads and the tight plectoneme tip (a curvature radius below the
+  rod's own radius, see the page) make them matter.
+* ends: rotation control (``ends="clamped-turned"``): s = 0 turned by 10 turns in 50 s at a
+  constant rate and then held (:class:`~dyntorsion.buckling.turning.TurnHold`, both corners
+  rounded over ``TAU`` = 0.1 s where PyElastica starts and stops the spin at once); s = L
+  held in rotation and laterally, free to slide along the axis.  PyElastica turns the end
+  that slides and holds the other; here the turned end is fixed in position and the far end
+  slides: the two differ by a rigid translation along the axis, whose inertia and damping
+  (small at these speeds) are the only difference.
+* damping: PyElastica's ``AnalyticalLinearDamper`` with constant nu = 2 / (rho A) multiplies
+  the velocities by exp(-nu dt) and the spins by exp(-nu dt m / J) each step: the force
+  and moment per length -nu rho A v and -nu rho A w, i.e. ``viscous = viscous_moment`` =
+  2 N s/m^2 and 2 N s here (:class:`~dyntorsion.beyond.contact.run.Contact`).
+  (PyElastica 1.0.0 applies the damper after the boundary condition, so its turned end
+  turns 0.8988 of what is asked: data/README and the Past contact page.)
+* contact: dyntorsion's law (a penalty per length ``STIFFNESS`` with damping ratio 0.5,
+  ``Contact``) in place of ``RodSelfContact`` (k = 1e4 N/m per element pair, nu = 10),
+  with the axis beyond both ends as an obstacle (the closure of the writhe).
+* imperfection: a point force ``SEED`` N along d1 at mid-length, for all t, in place of
+  PyElastica's lateral velocity kick of 1e-4 m/s at the middle node every step of the
+  twisting phase.
+* time: generalised-alpha with lambda_inf = ``LAM_T`` in time, the step of each run below
+  (halved where Newton fails, :func:`~dyntorsion.beyond.contact.marching.march_implicit`).
+
+Every run records, every 0.1 s: link, twist and writhe (:mod:`dyntorsion.beyond.contact.
+topology`), contact sites, the deepest overlap, the axial position of the sliding end, and
+at the end the centreline and its plectoneme turns (:mod:`dyntorsion.beyond.contact.
+plectoneme`, applied to PyElastica's final centreline too).  Written atomically after every
+run; a rerun resumes when the parameters, this script and the code fingerprint of
+``run_contact_scene`` are unchanged (else it starts again).
+
+Run: ``python benchmarks/plectoneme_dyntorsion.py`` (minutes per run on one core).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import os
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from dyntorsion import Rod, __version__  # noqa: E402
+from dyntorsion.app.cli_rtol import result_json  # noqa: E402
+from dyntorsion.beyond.contact.plectoneme import plectoneme_turns  # noqa: E402
+from dyntorsion.beyond.contact.run import Contact, ContactScene, run_contact_scene  # noqa: E402
+from dyntorsion.buckling.scene import Scene  # noqa: E402
+from dyntorsion.buckling.seed import Perturbation  # noqa: E402
+from dyntorsion.buckling.turning import TurnHold  # noqa: E402
+from dyntorsion.genalpha.scheme import Scheme  # noqa: E402
+from dyntorsion.store.fingerprint import code_fingerprint  # noqa: E402
+from pyelastica_plectoneme import LENGTH, MASS, RADIUS, SHEAR, T_HOLD, T_TWIST, TURNS, E  # noqa: E402
+
+T_END = T_TWIST + T_HOLD
+TAU = 0.1
+#: PyElastica's damper, nu = 2 / (rho A) [1/s], as a force and moment per length (docstring)
+VISCOUS = 2.0
+STIFFNESS = 1e7
+SEED = 1e-3
+LAM_T = -0.8
+CHECK = 0.1
+#: (cells, time step [s]) of each run
+RUNS = [(100, 0.01), (100, 0.02), (75, 0.01)]
+OUT = Path(__file__).resolve().parents[1] / "data" / "bench" / "dyntorsion_plectoneme.json"
+ROOTS = ("dyntorsion.beyond.contact.run:run_contact_scene",)
+
+
+def rod() -> Rod:
+    return Rod(E=E, nu=E / (2.0 * SHEAR) - 1.0, D=2.0 * RADIUS, L=LENGTH,
+               rho=MASS / (math.pi * RADIUS**2 * LENGTH))  # fmt: skip
+
+
+def contact_scene(n: int, dt: float) -> ContactScene:
+    scene = Scene(
+        history=TurnHold(TURNS, T_TWIST, tau=TAU), ends="clamped-turned", rod=rod(), n_cells=n,
+        dt=dt, t_end=T_END, scheme=Scheme(lam_t=LAM_T), seed=Perturbation(SEED, form="point"),
+    )  # fmt: skip
+    contact = Contact(stiffness=STIFFNESS, viscous=VISCOUS, viscous_moment=VISCOUS,
+                      max_step=dt, check=CHECK)  # fmt: skip
+    return ContactScene(scene, contact)
+
+
+def params() -> dict:
+    return {"turns": TURNS, "t_turn": T_TWIST, "t_hold": T_HOLD, "tau": TAU,
+            "rod": rod().params(), "viscous": VISCOUS, "stiffness": STIFFNESS, "seed": SEED,
+            "lam_t": LAM_T, "check": CHECK, "runs": [list(r) for r in RUNS],
+            "key": contact_scene(*RUNS[0]).params()}  # fmt: skip
+
+
+def code() -> dict:
+    return {"dyntorsion": __version__,
+            "script_sha256": hashlib.sha256(Path(__file__).read_bytes()).hexdigest(),
+            "code_fingerprint": code_fingerprint(ROOTS)}  # fmt: skip
+
+
+def write(record: dict) -> None:
+    OUT.parent.mkdir(parents=True, exist_ok=True)
+    with tempfile.NamedTemporaryFile("w", dir=OUT.parent, delete=False) as f:
+        json.dump(record, f)
+    os.replace(f.name, OUT)
+
+
+def one(n: int, dt: float) -> dict:
+    run = run_contact_scene(contact_scene(n, dt))
+    res = json.loads(result_json(run.result()))
+    h = run.history
+    r_final = h["r"][-1]
+    p = plectoneme_turns(r_final, 2.0 * RADIUS)
+    return {
+        "n_cells": n, "dt": dt, "result": res,
+        "history": {
+            "t": h["t"].tolist(), "link_turns": h["link"].tolist(),
+            "twist_turns": h["twist"].tolist(), "writhe_turns": h["writhe"].tolist(),
+            "sites": h["sites"].tolist(), "overlap_over_D": h["overlap_over_D"].tolist(),
+            "end_axial_position": h["r"][:, -1, 2].tolist(),
+            "end_moment": h["end_moment"].tolist(),
+        },
+        "final_centreline": r_final.tolist(),
+        "plectoneme": p._asdict(),
+    }  # fmt: skip
+
+
+def main() -> int:
+    record = {"params": params(), "code": code(), "runs": []}
+    if OUT.exists():
+        old = json.loads(OUT.read_text())
+        if old.get("params") == record["params"] and old.get("code") == record["code"]:
+            record = old
+    done = {(r["n_cells"], r["dt"]) for r in record["runs"]}
+    for n, dt in RUNS:
+        if (n, dt) in done:
+            continue
+        tick = time.perf_counter()
+        row = one(n, dt)
+        record["runs"].append(row)
+        write(record)
+        res = row["result"]
+        print(f"N = {n}, dt = {dt:g}: {res['stopped'][:60]} at {res['t_last']} s; link "
+              f"{res['link_turns']:.3f}, twist {res['twist_turns']:.3f}, writhe "
+              f"{res['writhe_turns']:.3f}, plectoneme {row['plectoneme']['turns']:.2f} turns "
+              f"({time.perf_counter() - tick:.0f} s)", flush=True)  # fmt: skip
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
