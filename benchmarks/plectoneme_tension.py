@@ -1,0 +1,178 @@
+"""Slow twisting under tension (issue 33, item 3, the quasi-static limit): the peak torque
+against the package's static critical twist, the torque plateau of the plectoneme against
+the two-ply theory (:mod:`dyntorsion.beyond.ply`), and the torque-rotation curve with its
+jump; written to ``data/bench/plectoneme_tension.json``.
+
+The rod: the section of PyElastica's plectoneme example (radius a = 0.025 m, E = 1 MPa,
+G = E / 1.5, 1 kg/m), ``LENGTH`` = 2.5 m long (L / a = 100), under a tension ``TENSION`` at
+the far end, which slides along the axis; s = 0 is turned (rotation control,
+:class:`~dyntorsion.buckling.turning.TurnHold`).  The tension is chosen so that the ply
+theory's small parameter eps = a sqrt(T / B) is 0.1 (the finite-radius correction eps /
+sqrt(6) = 4 %) and the rod is ten tension lengths long (L sqrt(T / B) = 10: the clamped
+critical torque within 5 % of the infinite rod's 2 sqrt(B T)).  Damping as in the
+PyElastica scene (2 N s/m^2 and 2 N s per length) so that the rod settles between events.
+
+Two parts:
+
+* ``bracket`` (no contact, the engine alone): turn to ``F`` x the static critical rotation
+  Theta_c = kappa_cri(T) L (``statics.critical_twist``) in ``T_BRACKET`` s and hold to
+  ``T_HOLD`` s.  Below Theta_c the rod must stay straight, above it must buckle: the
+  static critical torque C kappa_cri(T) bracketed by the dynamic code.  (A ramp through the
+  critical twist at any finite rate buckles late, the paper's delayed instability; the
+  hold removes the rate.)
+* ``curve`` (past contact): turn by ``TURNS`` in ``T_TURN`` s, hold to ``T_END``; every
+  0.1 s the twisting moment at s = 0, link, twist, writhe, contact sites, the far end's
+  axial position and the plectoneme turns of the centreline.  Its peak comes after
+  Theta_c (delayed, as above), then the jump, then the plateau.
+
+Written atomically after each part; a rerun keeps parts whose parameters, script and code
+fingerprint are unchanged.  Run: ``python benchmarks/plectoneme_tension.py``.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import os
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+from dyntorsion import Rod, __version__
+from dyntorsion.app.cli_rtol import result_json
+from dyntorsion.beyond.contact.plectoneme import plectoneme_turns
+from dyntorsion.beyond.contact.run import Contact, ContactScene, run_contact_scene
+from dyntorsion.beyond.ply import ply, ply_torque_leading
+from dyntorsion.buckling import simulate
+from dyntorsion.buckling.scene import Scene
+from dyntorsion.buckling.seed import Perturbation
+from dyntorsion.buckling.statics import critical_twist
+from dyntorsion.buckling.turning import TurnHold
+from dyntorsion.genalpha.scheme import Scheme
+from dyntorsion.store.fingerprint import code_fingerprint
+
+RADIUS, E, LENGTH = 0.025, 1e6, 2.5
+TENSION = 5.0
+N_CELLS, DT, LAM_T = 200, 0.02, -0.8
+VISCOUS, STIFFNESS, SEED = 2.0, 1e7, 1e-3
+F = (0.98, 0.99, 1.01, 1.02)
+T_BRACKET, T_HOLD, N_BRACKET = 30.0, 300.0, 100
+TURNS, T_TURN, T_END, TAU = 4.5, 90.0, 100.0, 1.0
+OUT = Path(__file__).resolve().parents[1] / "data" / "bench" / "plectoneme_tension.json"
+ROOTS = ("dyntorsion.beyond.contact.run:run_contact_scene", "dyntorsion.buckling:simulate")
+
+
+def rod() -> Rod:
+    return Rod(E=E, nu=-0.25, D=2 * RADIUS, L=LENGTH, rho=1.0 / (math.pi * RADIUS**2))
+
+
+def seed() -> Perturbation:
+    return Perturbation(SEED, form="point")
+
+
+def theory() -> dict:
+    r = rod()
+    kc = critical_twist(r, TENSION)
+    p = ply(TENSION, r.B1, RADIUS)
+    return {
+        "kappa_cri": kc, "critical_torque": r.C * kc, "critical_turns": kc * LENGTH / (2 * math.pi),
+        "greenhill_infinite": 2 * math.sqrt(r.B1 * TENSION), "ply": p._asdict(),
+        "ply_leading": ply_torque_leading(TENSION, r.B1, RADIUS),
+        "eps": RADIUS * math.sqrt(TENSION / r.B1), "lam": LENGTH * math.sqrt(TENSION / r.B1),
+        "C": r.C, "B": r.B1,
+    }  # fmt: skip
+
+
+def params() -> dict:
+    return {"radius": RADIUS, "E": E, "length": LENGTH, "tension": TENSION, "n_cells": N_CELLS,
+            "dt": DT, "lam_t": LAM_T, "viscous": VISCOUS, "stiffness": STIFFNESS, "seed": SEED,
+            "bracket": {"F": list(F), "t_turn": T_BRACKET, "t_hold": T_HOLD, "n_cells": N_BRACKET},
+            "curve": {"turns": TURNS, "t_turn": T_TURN, "t_end": T_END, "tau": TAU}}  # fmt: skip
+
+
+def code() -> dict:
+    return {"dyntorsion": __version__,
+            "script_sha256": hashlib.sha256(Path(__file__).read_bytes()).hexdigest(),
+            "code_fingerprint": code_fingerprint(ROOTS)}  # fmt: skip
+
+
+def write(record: dict) -> None:
+    OUT.parent.mkdir(parents=True, exist_ok=True)
+    with tempfile.NamedTemporaryFile("w", dir=OUT.parent, delete=False) as f:
+        json.dump(record, f)
+    os.replace(f.name, OUT)
+
+
+def bracket(kc: float) -> list[dict]:
+    rows = []
+    for f in F:
+        turns = f * kc * LENGTH / (2 * math.pi)
+        run = simulate(
+            history=TurnHold(turns, T_BRACKET, tau=2.0), ends="clamped-turned", rod=rod(),
+            tension=TENSION, n_cells=N_BRACKET, dt=DT, t_end=T_HOLD, perturbation=seed(),
+            scheme=Scheme(lam_t=LAM_T), on_failure="return", snapshots=[T_HOLD],
+        )  # fmt: skip
+        u = np.abs(run.u3_end)
+        snap = run.run.snapshots
+        bent = None if snap is None or len(snap) == 0 else float(np.abs(snap[-1][:, 6:8]).max())
+        hold = run.t >= T_BRACKET + 4 * 2.0
+        half = run.t >= 0.5 * (T_BRACKET + T_HOLD)
+        rows.append({
+            "F": f, "turns": turns, "stopped": run.stopped, "t_last": float(run.t[-1]),
+            "max_u3_hold_first_half": float(u[hold & ~half].max()),
+            "max_u3_hold_second_half": float(u[half].max()) if half.any() else None,
+            "max_u3": float(u.max()), "t_max_u3": float(run.t[np.argmax(u)]),
+            "end_moment_last": float(rod().C * run.kappa3_left[-1]),
+            "max_bending_curvature_at_t_hold": bent,
+        })  # fmt: skip
+    return rows
+
+
+def curve() -> dict:
+    scene = Scene(
+        history=TurnHold(TURNS, T_TURN, tau=TAU), ends="clamped-turned", rod=rod(),
+        tension=TENSION, n_cells=N_CELLS, dt=DT, t_end=T_END, scheme=Scheme(lam_t=LAM_T),
+        seed=seed(),
+    )  # fmt: skip
+    contact = Contact(stiffness=STIFFNESS, viscous=VISCOUS, viscous_moment=VISCOUS, max_step=DT,
+                      check=0.1)  # fmt: skip
+    run = run_contact_scene(ContactScene(scene, contact))
+    h = run.history
+    plects = [plectoneme_turns(r, 2 * RADIUS) for r in h["r"]]
+    return {
+        "result": json.loads(result_json(run.result())),
+        "history": {
+            "t": h["t"].tolist(), "link_turns": h["link"].tolist(),
+            "twist_turns": h["twist"].tolist(), "writhe_turns": h["writhe"].tolist(),
+            "end_moment": h["end_moment"].tolist(), "sites": h["sites"].tolist(),
+            "end_axial_position": h["r"][:, -1, 2].tolist(),
+            "plectoneme_turns": [p.turns for p in plects],
+            "plectoneme_pairs": [p.pairs for p in plects],
+        },
+        "final_centreline": h["r"][-1].tolist(),
+    }  # fmt: skip
+
+
+def main() -> int:
+    record = {"params": params(), "code": code(), "theory": theory()}
+    if OUT.exists():
+        old = json.loads(OUT.read_text())
+        if all(old.get(k) == record[k] for k in ("params", "code", "theory")):
+            record = old
+    for name, part in (("bracket", lambda: bracket(record["theory"]["kappa_cri"])),
+                       ("curve", curve)):  # fmt: skip
+        if name in record:
+            continue
+        tick = time.perf_counter()
+        record[name] = part()
+        record[f"{name}_wall_seconds"] = time.perf_counter() - tick
+        write(record)
+        print(f"{name} done ({time.perf_counter() - tick:.0f} s)", flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
