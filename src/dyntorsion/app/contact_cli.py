@@ -37,6 +37,8 @@ def add_contact_options(b: argparse.ArgumentParser) -> None:
                    "omega_c dt <= 0.5) instead of inside the implicit step")  # fmt: skip
     g.add_argument("--viscous", type=float, default=0.0,
                    help="linear viscous damping of the velocity per length [N s/m^2] (default 0)")  # fmt: skip
+    g.add_argument("--viscous-moment", type=float, default=0.0,
+                   help="linear viscous damping of the spin per length [N s] (default 0)")  # fmt: skip
     b.add_argument("--json", action="store_true", help="print the result as one JSON object")
 
 
@@ -47,6 +49,7 @@ def buckle_contact(args: argparse.Namespace, scene: Scene) -> int:
         raise ValueError("--contact needs --t-end T [s]: how long to follow the rod past contact")
     contact = Contact(
         stiffness=args.contact_stiffness, damping=args.contact_damping, viscous=args.viscous,
+        viscous_moment=args.viscous_moment,
         implicit=not args.contact_lagged, max_step=args.contact_max_step,
         max_cell_bend=args.contact_max_cell_bend,
     )  # fmt: skip
