@@ -6,12 +6,11 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 
-import numpy as np
 import pandas as pd
 
 from ..buckling.scene import Scene
+from ..store.results import json_ready
 from ..studies.tolerance import check_rtol, onset_within
 
 __all__ = ["RTOL_HELP", "rtol_type", "result_json", "buckle_rtol", "sweep_rtol"]
@@ -34,19 +33,7 @@ def rtol_type(text: str) -> float:
 def result_json(result: dict) -> str:
     """One run's result as one JSON object (numbers as numbers, NaN and infinities as
     null, numpy scalars as Python ones): what ``--json`` prints."""
-
-    def plain(x):
-        if isinstance(x, dict):
-            return {str(k): plain(v) for k, v in x.items()}
-        if isinstance(x, list | tuple):
-            return [plain(v) for v in x]
-        if isinstance(x, np.generic):
-            x = x.item()
-        if isinstance(x, float) and not math.isfinite(x):
-            return None
-        return x
-
-    return json.dumps(plain(result), allow_nan=False)
+    return json.dumps(json_ready(result), allow_nan=False)
 
 
 def buckle_rtol(args: argparse.Namespace, scene: Scene) -> int:

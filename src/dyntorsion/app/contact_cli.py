@@ -1,5 +1,7 @@
 """``dyntorsion buckle --contact``: a buckling scene followed past self-contact (issue 33,
-:mod:`dyntorsion.beyond.contact`), and ``--json`` for every buckle run: one JSON object."""
+:mod:`dyntorsion.beyond.contact`; with ``--store`` read from or written to the store as a
+``contact-run`` record, :mod:`dyntorsion.studies.contact_runs`), and ``--json`` for every
+buckle run: one JSON object."""
 
 from __future__ import annotations
 
@@ -7,6 +9,7 @@ import argparse
 
 from ..beyond.contact.run import Contact, ContactScene, run_contact_scene
 from ..buckling.scene import Scene
+from ..studies.contact_runs import contact_run
 from .cli_rtol import result_json
 
 __all__ = ["add_contact_options", "buckle_contact"]
@@ -53,7 +56,12 @@ def buckle_contact(args: argparse.Namespace, scene: Scene) -> int:
         implicit=not args.contact_lagged, max_step=args.contact_max_step,
         max_cell_bend=args.contact_max_cell_bend,
     )  # fmt: skip
-    result = run_contact_scene(ContactScene(scene, contact)).result()
+    cs = ContactScene(scene, contact)
+    if getattr(args, "store", None):
+        record, cached = contact_run(cs, args.store, on_stale=args.on_stale)
+        result = {**record["summary"], "cached": cached}
+    else:
+        result = run_contact_scene(cs).result()
     if args.json:
         print(result_json(result))
     else:

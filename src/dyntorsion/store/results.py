@@ -37,6 +37,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from .fingerprint import code_of
 from .leases import TMP_SUFFIX, Lease, _owner, acquire_lease, clean_leftovers
 from .location import DATA
@@ -71,6 +73,22 @@ def _plain(obj: Any, where: str = "") -> Any:
     if isinstance(obj, float) and not math.isfinite(obj):
         raise ValueError(f"cannot store the non-finite number {obj!r} (entry {where or '-'})")
     return obj
+
+
+def json_ready(x: Any) -> Any:
+    """``x`` with numpy scalars and arrays as Python numbers and lists, tuples as lists and
+    NaN and infinities as None: what a record or ``--json`` can hold."""
+    if isinstance(x, dict):
+        return {str(k): json_ready(v) for k, v in x.items()}
+    if isinstance(x, list | tuple):
+        return [json_ready(v) for v in x]
+    if isinstance(x, np.ndarray):
+        return json_ready(x.tolist())
+    if isinstance(x, np.generic):
+        x = x.item()
+    if isinstance(x, float) and not math.isfinite(x):
+        return None
+    return x
 
 
 def canonical(obj: Any) -> str:

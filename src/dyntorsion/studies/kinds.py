@@ -22,6 +22,11 @@ KINDS: dict[str, tuple[str, ...]] = {
     ),
     "onset-rules": ("dyntorsion.buckling.onset_rules:run_rules", *_SCENE),
     "onset-trace": ("dyntorsion.studies.traces:compare", *_SCENE),
+    "contact-run": (
+        "dyntorsion.beyond.contact.run:run_contact_scene",
+        "dyntorsion.beyond.contact.run:ContactScene",
+        *_SCENE,
+    ),
 }
 for _kind, _roots in KINDS.items():
     register_kind(_kind, _roots)
