@@ -1,6 +1,8 @@
 """The contact inside the implicit step (dyntorsion.beyond.contact.implicit): the Jacobian
 columns are the derivative of the contact's residual, the Woodbury solve on the banded
-factors is the dense solve, the fixed normal holds a pair apart whatever the step."""
+factors and the sparse LU (dyntorsion.beyond.contact.linear) are the dense solve, the
+candidate pairs are those of the definition, the fixed normal holds a pair apart whatever
+the step."""
 
 from __future__ import annotations
 
@@ -12,9 +14,14 @@ from dyntorsion.beyond.contact.implicit import (
     StepParams,
     add_to_residual,
     contact_source,
-    woodbury_solve,
 )
 from dyntorsion.beyond.contact.law import LawParams
+from dyntorsion.beyond.contact.linear import (
+    SPARSE_FROM,
+    contact_solve,
+    sparse_solve,
+    woodbury_solve,
+)
 from dyntorsion.beyond.contact.marching import _residual_factor
 from dyntorsion.genalpha.discrete import setup
 from dyntorsion.genalpha.scheme import Scheme
@@ -113,7 +120,8 @@ def _dense(w):
     return J
 
 
-def test_the_woodbury_solve_on_the_banded_factors_is_the_dense_solve():
+@pytest.mark.parametrize("solver", ["woodbury", "sparse"])
+def test_the_contact_solves_are_the_dense_solve(solver):
     rng = np.random.default_rng(11)
     rod = Rod()
     model = Cosserat(rod)
@@ -139,13 +147,85 @@ def test_the_woodbury_solve_on_the_banded_factors_is_the_dense_solve():
     J = _dense(w)
     J[:, src.cols] += src.C.T
     dx = np.empty_like(w.y)
-    woodbury_solve(fac, w.r.copy(), src.C, src.cols, dx)
+    if solver == "woodbury":
+        woodbury_solve(fac, w.r.copy(), src.C, src.cols, dx)
+    else:
+        sparse_solve(w.left, w.A, w.B, w.right, w.r.copy(), src.C, src.cols, dx)
     dense = np.linalg.solve(J, -w.r)
     # J + C E^T has a condition number of ~2e13 here (spin columns beside velocity
     # columns 1e4 times larger): the backward error is the sound measure, and the forward
     # difference is judged against the solution's size (measured: 2.5e-13 and 8e-13)
     assert np.abs(J @ dx.ravel() + w.r).max() <= 1e-11 * np.abs(w.r).max()
     assert np.allclose(dx.ravel(), dense, rtol=1e-8, atol=1e-10 * np.abs(dense).max())
+
+
+def _gather_by_definition(law, r, reach, tails):
+    """The candidate pairs by their definition, in plain Python: every segment pair
+    farther apart along the rod than min_arc with closest points nearer than ``reach``, and
+    every segment against the axis piece beyond either end."""
+    from dyntorsion.beyond.contact.law import _closest
+
+    found = {}
+    n_seg = r.shape[0] - 1
+    for i in range(n_seg):
+        for j in range(i + 1, n_seg):
+            if (j - i - 1) * law.ds > law.min_arc:
+                s, t, dv = _closest(r[i], r[i + 1], r[j], r[j + 1])
+                if 0 < np.linalg.norm(dv) < reach:
+                    found[(i, j)] = (s, t, dv)
+        for side in range(2):
+            gap = (n_seg - 1 - i) * law.ds if side else i * law.ds
+            if gap > law.min_arc:
+                s, t, dv = _closest(r[i], r[i + 1], tails[side, 0], tails[side, 1])
+                if 0 < np.linalg.norm(dv) < reach:
+                    found[(i, -1 - side)] = (s, t, dv)
+    return found
+
+
+def test_the_candidate_pairs_are_those_of_the_definition():
+    """A random coil of 60 segments (so that many pairs are near, some near the ends'
+    axis pieces): the compiled gathering finds exactly the pairs of the definition, with
+    their closest points, normals and weights."""
+    from dyntorsion.beyond.contact.implicit import candidates
+
+    rng = np.random.default_rng(5)
+    n = 60
+    ds = 0.01
+    steps = rng.normal(size=(n, 3))
+    steps[:, 2] += 0.3
+    r = np.vstack([np.zeros(3), np.cumsum(ds * steps / np.linalg.norm(steps, axis=1)[:, None],
+                                          axis=0)])  # fmt: skip
+    law = LawParams(0.004, 5e7, 10.0, ds, 0.012)
+    V = 0.1 * rng.normal(size=(n + 1, 3))
+    h = 0.01
+    got = candidates(law, r, V, h, True)
+    reach = law.diameter + 4 * h * np.max(np.linalg.norm(V, axis=1)) + 0.5 * law.diameter
+    L = ds * n
+    e3 = np.array([0.0, 0.0, 1.0])
+    tails = np.array([[r[0], r[0] - L * e3], [r[-1], r[-1] + L * e3]])
+    want = _gather_by_definition(law, r, reach, tails)
+    assert got.nodes.shape[0] == len(want) > 10
+    selfs = {(int(a), int(c)): k for k, (a, _, c, _) in enumerate(got.nodes) if c >= 0}
+    assert set(selfs) == {key for key in want if key[1] >= 0}
+    for (i, j), k in selfs.items():
+        s, t, dv = want[(i, j)]
+        assert np.allclose(got.sigma[k], [1 - s, s, -(1 - t), -t], rtol=0, atol=1e-15)
+        assert np.allclose(got.d[k], dv, rtol=0, atol=1e-15)
+        assert np.allclose(got.n[k], dv / np.linalg.norm(dv), rtol=0, atol=1e-15)
+    assert sum(1 for key in want if key[1] < 0) == sum(1 for k in got.nodes if k[2] < 0)
+
+
+def test_many_contact_columns_take_the_sparse_lu(monkeypatch):
+    """contact_solve: Woodbury below SPARSE_FROM columns, the sparse LU from there."""
+    import dyntorsion.beyond.contact.linear as lin
+
+    called = []
+    monkeypatch.setattr(lin, "woodbury_solve", lambda *a: called.append("woodbury"))
+    monkeypatch.setattr(lin, "sparse_solve", lambda *a: called.append("sparse"))
+    for m in (SPARSE_FROM - 1, SPARSE_FROM):
+        contact_solve(None if m < SPARSE_FROM else type("W", (), {"left": 0, "A": 0, "B": 0,
+                      "right": 0})(), None, None, None, np.arange(m), None)  # fmt: skip
+    assert called == ["woodbury", "sparse"]
 
 
 @pytest.mark.parametrize("h", [1e-5, 1e-3, 1e-1])

@@ -61,15 +61,13 @@ as q_a = -R_a f_a / w_a (body components per unit length, w_a = ds, ds/2 at the 
 the new level, with the box scheme's weights (1 - b_t) and, within a cell,
 (1 - b_s, b_s) on its right and left node.  Their Jacobian (C2, C4) has nonzero columns
 only on the velocities and spins of the nodes in contact: 6 m columns (m nodes) added to
-the banded Jacobian of the step, solved by the banded LU and the Woodbury identity
-
-    (J + C E^T)^{-1} b = z - Z (I + E^T Z)^{-1} E^T z,    z = J^{-1} b,  Z = J^{-1} C,
-
-6 m more banded solves and one dense 6m x 6m solve per factorisation.
+the banded Jacobian of the step, solved by :mod:`.linear` (the Woodbury identity on the
+banded factors for few columns, a sparse LU of the whole matrix for many).
 """
 
 from __future__ import annotations
 
+import math
 from typing import NamedTuple
 
 import numpy as np
@@ -77,10 +75,9 @@ from scipy.spatial import cKDTree
 
 from ... import shapes
 from ..._numba import jit
-from ...genalpha.discrete import solve_neg
 from .law import LawParams, _closest, _share
 
-__all__ = ["StepParams", "Pairs", "candidates", "contact_source", "woodbury_solve"]
+__all__ = ["StepParams", "Pairs", "candidates", "contact_source"]
 
 
 class StepParams(NamedTuple):
@@ -115,47 +112,68 @@ NO_PAIRS = Pairs(np.zeros((0, 4), np.int64), np.zeros((0, 4)), np.zeros((0, 3)),
                  np.zeros((0, 3)), np.zeros(0))  # fmt: skip
 
 
-def _gather(p: LawParams, r, pairs, reach, tails, fixtures):
-    """The candidate pairs (module docstring) among segment pairs ``pairs`` and, with
+@jit
+def _gather_kernel(p: LawParams, r, pairs, reach, tails, fixtures, nodes, sigma, normal, dist,
+                   weight):  # fmt: skip
+    """Fill the candidate pairs (module docstring) among segment pairs ``pairs`` and, with
     ``fixtures``, the segments against the two axis pieces ``tails``: closer than
-    ``reach`` at the known level and farther apart along the rod than ``min_arc``."""
+    ``reach`` at the known level and farther apart along the rod than ``min_arc``.
+    Returns their number."""
     n_seg = r.shape[0] - 1
-    nodes, sigma, normal, dist, weight = [], [], [], [], []
-    for i, j in pairs:
-        i, j = (i, j) if i < j else (j, i)
+    k = 0
+    for m in range(pairs.shape[0]):
+        i, j = pairs[m, 0], pairs[m, 1]
+        if i > j:
+            i, j = j, i
         if (j - i - 1) * p.ds <= p.min_arc:
             continue
         s, t, dv = _closest(r[i], r[i + 1], r[j], r[j + 1])
-        d = float(np.sqrt(dv @ dv))
+        d = math.sqrt(dv @ dv)
         if d >= reach or d == 0.0:
             continue
-        nodes.append((i, i + 1, j, j + 1))
-        sigma.append((1.0 - s, s, -(1.0 - t), -t))
-        normal.append(dv / d)
-        dist.append(dv)
-        weight.append(p.ds * _share(s) * _share(t))
-    if fixtures:
-        low = np.minimum(r[1:, 2], r[:-1, 2])
-        high = np.maximum(r[1:, 2], r[:-1, 2])
-        near = (low < r[0, 2] + reach, high > r[-1, 2] - reach)
-        for k in range(2):
-            for i in np.nonzero(near[k])[0]:
-                gap = (n_seg - 1 - i) * p.ds if k == 1 else i * p.ds
-                if gap <= p.min_arc:
-                    continue
-                s, _, dv = _closest(r[i], r[i + 1], tails[k, 0], tails[k, 1])
-                d = float(np.sqrt(dv @ dv))
-                if d >= reach or d == 0.0:
-                    continue
-                nodes.append((i, i + 1, -1, -1))
-                sigma.append((1.0 - s, s, 0.0, 0.0))
-                normal.append(dv / d)
-                dist.append(dv)
-                weight.append(p.ds * _share(s))
-    if not nodes:
+        nodes[k, 0], nodes[k, 1], nodes[k, 2], nodes[k, 3] = i, i + 1, j, j + 1
+        sigma[k, 0], sigma[k, 1], sigma[k, 2], sigma[k, 3] = 1.0 - s, s, -(1.0 - t), -t
+        normal[k] = dv / d
+        dist[k] = dv
+        weight[k] = p.ds * _share(s) * _share(t)
+        k += 1
+    if not fixtures:
+        return k
+    for side in range(2):
+        for i in range(n_seg):
+            low = min(r[i + 1, 2], r[i, 2])
+            high = max(r[i + 1, 2], r[i, 2])
+            if side == 0 and not low < r[0, 2] + reach:
+                continue
+            if side == 1 and not high > r[n_seg, 2] - reach:
+                continue
+            gap = (n_seg - 1 - i) * p.ds if side == 1 else i * p.ds
+            if gap <= p.min_arc:
+                continue
+            s, _, dv = _closest(r[i], r[i + 1], tails[side, 0], tails[side, 1])
+            d = math.sqrt(dv @ dv)
+            if d >= reach or d == 0.0:
+                continue
+            nodes[k, 0], nodes[k, 1], nodes[k, 2], nodes[k, 3] = i, i + 1, -1, -1
+            sigma[k, 0], sigma[k, 1], sigma[k, 2], sigma[k, 3] = 1.0 - s, s, 0.0, 0.0
+            normal[k] = dv / d
+            dist[k] = dv
+            weight[k] = p.ds * _share(s)
+            k += 1
+    return k
+
+
+def _gather(p: LawParams, r, pairs, reach, tails, fixtures) -> Pairs:
+    """The candidate pairs (:func:`_gather_kernel`) as :class:`Pairs`."""
+    size = pairs.shape[0] + (2 * (r.shape[0] - 1) if fixtures else 0)
+    nodes, sigma = np.empty((size, 4), np.int64), np.empty((size, 4))
+    normal, dist, weight = np.empty((size, 3)), np.empty((size, 3)), np.empty(size)
+    k = _gather_kernel(p, r, np.ascontiguousarray(pairs, np.int64), float(reach), tails,
+                       bool(fixtures), nodes, sigma, normal, dist, weight)  # fmt: skip
+    if k == 0:
         return NO_PAIRS
-    return Pairs(np.array(nodes, np.int64), np.array(sigma), np.array(normal),
-                 np.array(dist), np.array(weight))  # fmt: skip
+    return Pairs(nodes[:k].copy(), sigma[:k].copy(), normal[:k].copy(), dist[:k].copy(),
+                 weight[:k].copy())  # fmt: skip
 
 
 def candidates(p: LawParams, r: np.ndarray, V: np.ndarray, dt: float, fixtures: bool) -> Pairs:
@@ -343,34 +361,8 @@ def _frame_columns(sp: StepParams, nodes, q, turn, nbl, rscale, yscale, C):
         _add_block(sp, na, 6 * m + 3, Q @ turn[na], nbl, rscale, yscale, 3, C)
 
 
-@jit
-def _solve_columns(fac, C, Z):
-    """Z[c] = J^{-1} C[c] for every column c, with the banded factors of J."""
-    for c in range(C.shape[0]):
-        solve_neg(fac, C[c], Z[c])
-        for j in range(Z.shape[1]):
-            for f in range(Z.shape[2]):
-                Z[c, j, f] = -Z[c, j, f]
-
-
 def add_to_residual(r, q_new, sp: StepParams, nf, nbl, rscale) -> None:
     """r += the new level's contact source in every cell: (1 - b_t) [(1 - b_s) q_j +
     b_s q_{j-1}] / rscale (the rows of prepare_step / residual)."""
     cell = (1.0 - sp.b_t) * ((1.0 - sp.b_s) * q_new[1:] + sp.b_s * q_new[:-1]) / rscale
     r[nbl : nbl + cell.size] += cell.ravel()
-
-
-def woodbury_solve(fac, r, C, cols, out) -> None:
-    """out = -(J + C E^T)^{-1} r, J the banded Jacobian whose factors ``fac`` hold, E the
-    columns ``cols`` of the identity (module docstring)."""
-    solve_neg(fac, r, out)  # out = -J^{-1} r = z
-    if cols.size == 0:
-        return
-    m = cols.size
-    Z3 = np.empty((m,) + out.shape)
-    _solve_columns(fac, C, Z3)  # Z[c] = J^{-1} C[c]
-    Z = Z3.reshape(m, -1)
-    z = out.ravel()
-    small = np.eye(m) + Z[:, cols].T
-    corr = np.linalg.solve(small, z[cols])
-    out[:, :] = (z - Z.T @ corr).reshape(out.shape)

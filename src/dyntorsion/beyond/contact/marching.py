@@ -7,8 +7,8 @@ every scene without contact are untouched.
 Each step: the candidate pairs from the known level (:func:`.implicit.candidates`); none:
 the engine's compiled Newton solve of the step (:func:`~dyntorsion.genalpha.newton.solve_step`,
 the same as a scene without contact, with its retry from the other predictor); some: a
-full Newton solve with the contact's source and Jacobian columns (Woodbury on the banded
-factors) at every iteration.  Between steps the same bookkeeping as the lagged route
+full Newton solve with the contact's source and Jacobian columns (:mod:`.linear`: Woodbury
+on the banded factors, or a sparse LU for many columns) at every iteration.  Between steps the same bookkeeping as the lagged route
 (:class:`.between._Between`: rebuild, law on the rebuilt shape for the reported overlap,
 energy budget with the source the step used, topology), so both routes report alike.
 """
@@ -41,8 +41,8 @@ from .implicit import (
     add_to_residual,
     candidates,
     contact_source,
-    woodbury_solve,
 )
+from .linear import contact_solve
 
 __all__ = ["Marched", "march_implicit"]
 
@@ -135,7 +135,7 @@ def _contact_newton(system, con, w, fac, gL, gR, sp, pairs, R, V_old, weights, o
             w.factored[0] = 0
             return False, it, src
         w.factored[0] = 1
-        woodbury_solve(fac, r, src.C, src.cols, dx)
+        contact_solve(w, fac, r, src.C, src.cols, dx)
         nd = correction_norm(dx, y, ys)
         if not math.isfinite(nd):
             return False, it, src

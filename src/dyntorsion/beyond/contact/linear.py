@@ -1,0 +1,102 @@
+"""The linear solve of one Newton iteration of a contact step (:mod:`.implicit`): the
+banded Jacobian J of the step (:mod:`dyntorsion.genalpha.abd`) plus the contact's
+columns C E^T (E the columns ``cols`` of the identity),
+
+    (J + C E^T) dx = -r.
+
+**Woodbury** on the banded factors of J (few columns):
+
+    (J + C E^T)^{-1} b = z - Z (I + E^T Z)^{-1} E^T z,    z = J^{-1} b,  Z = J^{-1} C,
+
+one banded solve per column and a dense solve of the columns' size: cost ~ m N + m^3 for m
+columns.  **Sparse LU** of J + C E^T assembled whole (SuperLU, :func:`scipy.sparse.linalg.
+splu`, column order COLAMD, partial pivoting), for many columns: its cost hardly grows with
+m, the columns touching only the rows of the cells beside the nodes in contact.  A
+plectoneme of PyElastica's scene at N = 100 holds ~100 nodes in contact, 600 columns.
+Both solve the same system; :data:`SPARSE_FROM` columns switch from the first to the
+second (``benchmarks/bench_contact.py`` measures both).
+"""
+
+from __future__ import annotations
+
+from functools import cache
+
+import numpy as np
+import scipy.sparse as sps
+import scipy.sparse.linalg as spla
+
+from ..._numba import jit
+from ...genalpha.discrete import solve_neg
+
+__all__ = ["SPARSE_FROM", "contact_solve", "sparse_solve", "woodbury_solve"]
+
+#: the number of contact columns from which :func:`contact_solve` takes the sparse LU
+SPARSE_FROM = 96
+
+
+@jit
+def _solve_columns(fac, C, Z):
+    """Z[c] = J^{-1} C[c] for every column c, with the banded factors of J."""
+    for c in range(C.shape[0]):
+        solve_neg(fac, C[c], Z[c])
+        for j in range(Z.shape[1]):
+            for f in range(Z.shape[2]):
+                Z[c, j, f] = -Z[c, j, f]
+
+
+def woodbury_solve(fac, r, C, cols, out) -> None:
+    """out = -(J + C E^T)^{-1} r, J the banded Jacobian whose factors ``fac`` hold
+    (module docstring)."""
+    solve_neg(fac, r, out)  # out = -J^{-1} r = z
+    if cols.size == 0:
+        return
+    m = cols.size
+    Z3 = np.empty((m,) + out.shape)
+    _solve_columns(fac, C, Z3)  # Z[c] = J^{-1} C[c]
+    Z = Z3.reshape(m, -1)
+    z = out.ravel()
+    small = np.eye(m) + Z[:, cols].T
+    corr = np.linalg.solve(small, z[cols])
+    out[:, :] = (z - Z.T @ corr).reshape(out.shape)
+
+
+@cache
+def _pattern(n_cells: int, nf: int, nbl: int) -> tuple[np.ndarray, np.ndarray]:
+    """Row and column indices of the blocks (BL, A_j, B_j, BR) of J, in the order of
+    ``np.concatenate([BL.ravel(), AB.ravel(), BR.ravel()])`` with AB[j] = [A_j B_j]."""
+    f = np.arange(nf)
+    rows = [np.repeat(np.arange(nbl), nf)]
+    cols = [np.tile(f, nbl)]
+    j = np.arange(n_cells)[:, None, None]
+    rows.append(np.broadcast_to(nbl + nf * j + f[None, :, None], (n_cells, nf, 2 * nf)).ravel())
+    cols.append(np.broadcast_to(nf * j + np.arange(2 * nf)[None, None, :],
+                                (n_cells, nf, 2 * nf)).ravel())  # fmt: skip
+    rows.append(np.repeat(nbl + nf * n_cells + np.arange(nf - nbl), nf))
+    cols.append(nf * n_cells + np.tile(f, nf - nbl))
+    return np.concatenate(rows), np.concatenate(cols)
+
+
+def sparse_solve(left, A, B, right, r, C, cols, out) -> None:
+    """out = -(J + C E^T)^{-1} r by a sparse LU of the whole matrix, J given by its scaled
+    blocks (``Work.left``, ``Work.A``, ``Work.B``, ``Work.right``)."""
+    n_cells, nf, _ = A.shape
+    nbl = left.shape[0]
+    n = nf * (n_cells + 1)
+    rows, cs = _pattern(n_cells, nf, nbl)
+    data = [left.ravel(), np.concatenate([A, B], axis=2).ravel(), right.ravel()]
+    ci, ri = np.nonzero(C)
+    J = sps.csc_matrix(
+        (np.concatenate(data + [C[ci, ri]]), (np.concatenate([rows, ri]),
+                                               np.concatenate([cs, cols[ci]]))),
+        shape=(n, n),
+    )  # fmt: skip
+    out[:, :] = -spla.splu(J).solve(r).reshape(out.shape)
+
+
+def contact_solve(w, fac, r, C, cols, out) -> None:
+    """out = -(J + C E^T)^{-1} r: Woodbury below :data:`SPARSE_FROM` columns, else the
+    sparse LU (module docstring)."""
+    if cols.size < SPARSE_FROM:
+        woodbury_solve(fac, r, C, cols, out)
+    else:
+        sparse_solve(w.left, w.A, w.B, w.right, r, C, cols, out)
