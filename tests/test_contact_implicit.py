@@ -17,8 +17,8 @@ from dyntorsion.beyond.contact.implicit import (
 )
 from dyntorsion.beyond.contact.law import LawParams
 from dyntorsion.beyond.contact.linear import (
-    SPARSE_FROM,
     contact_solve,
+    sparse_from,
     sparse_solve,
     woodbury_solve,
 )
@@ -216,16 +216,18 @@ def test_the_candidate_pairs_are_those_of_the_definition():
 
 
 def test_many_contact_columns_take_the_sparse_lu(monkeypatch):
-    """contact_solve: Woodbury below SPARSE_FROM columns, the sparse LU from there."""
+    """contact_solve: Woodbury below sparse_from(N) columns, the sparse LU from there; the
+    switch moves up with N (each banded solve of Woodbury costs ~N)."""
     import dyntorsion.beyond.contact.linear as lin
 
     called = []
     monkeypatch.setattr(lin, "woodbury_solve", lambda *a: called.append("woodbury"))
     monkeypatch.setattr(lin, "sparse_solve", lambda *a: called.append("sparse"))
-    for m in (SPARSE_FROM - 1, SPARSE_FROM):
-        contact_solve(None if m < SPARSE_FROM else type("W", (), {"left": 0, "A": 0, "B": 0,
-                      "right": 0})(), None, None, None, np.arange(m), None)  # fmt: skip
+    w = type("W", (), {"left": 0, "A": np.zeros((400, 1, 1)), "B": 0, "right": 0})()
+    for m in (sparse_from(400) - 1, sparse_from(400)):
+        contact_solve(w, None, None, None, np.arange(m), None)
     assert called == ["woodbury", "sparse"]
+    assert 100 < sparse_from(100) < sparse_from(800) < 768
 
 
 @pytest.mark.parametrize("h", [1e-5, 1e-3, 1e-1])

@@ -13,8 +13,10 @@ columns.  **Sparse LU** of J + C E^T assembled whole (SuperLU, :func:`scipy.spar
 splu`, column order COLAMD, partial pivoting), for many columns: its cost hardly grows with
 m, the columns touching only the rows of the cells beside the nodes in contact.  A
 plectoneme of PyElastica's scene at N = 100 holds ~100 nodes in contact, 600 columns.
-Both solve the same system; :data:`SPARSE_FROM` columns switch from the first to the
-second (``benchmarks/bench_contact.py`` measures both).
+Both solve the same system; :func:`sparse_from` columns switch from the first to the
+second.  Measured (``benchmarks/bench_contact.py``, 2026-11-26, medians, one BLAS
+thread): the two cost the same at about 190, 300 and 400 columns for N = 100, 400 and
+800; the sparse LU is 2-4 times faster at 768 columns and 4-20 times slower at 12-48.
 """
 
 from __future__ import annotations
@@ -28,10 +30,13 @@ import scipy.sparse.linalg as spla
 from ..._numba import jit
 from ...genalpha.discrete import solve_neg
 
-__all__ = ["SPARSE_FROM", "contact_solve", "sparse_solve", "woodbury_solve"]
+__all__ = ["contact_solve", "sparse_from", "sparse_solve", "woodbury_solve"]
 
-#: the number of contact columns from which :func:`contact_solve` takes the sparse LU
-SPARSE_FROM = 96
+
+def sparse_from(n_cells: int) -> int:
+    """The number of contact columns from which :func:`contact_solve` takes the sparse
+    LU on N = ``n_cells`` (near the measured crossing, module docstring)."""
+    return 150 + n_cells // 3
 
 
 @jit
@@ -94,9 +99,9 @@ def sparse_solve(left, A, B, right, r, C, cols, out) -> None:
 
 
 def contact_solve(w, fac, r, C, cols, out) -> None:
-    """out = -(J + C E^T)^{-1} r: Woodbury below :data:`SPARSE_FROM` columns, else the
+    """out = -(J + C E^T)^{-1} r: Woodbury below :func:`sparse_from` columns, else the
     sparse LU (module docstring)."""
-    if cols.size < SPARSE_FROM:
+    if cols.size < sparse_from(w.A.shape[0]):
         woodbury_solve(fac, r, C, cols, out)
     else:
         sparse_solve(w.left, w.A, w.B, w.right, r, C, cols, out)
