@@ -20,24 +20,22 @@ lambda_inf = -0.8, to t = 3.3 s, and the time route at N = 800 with lambda_inf =
 -1 (how much of the energy residual is the scheme's damping).  Their whole results
 (energy budget, drifts of the centreline, cost) are kept.
 
-Run: ``python benchmarks/contact_convergence.py`` (about 45 min on one core).
+Run: ``python benchmarks/contact_convergence.py [--jobs J]`` (about 1.5 h on one core before the
+sparse contact solve of :mod:`dyntorsion.beyond.contact.linear`).
 """
 
 from __future__ import annotations
 
-import hashlib
+import argparse
 import json
-import os
-import tempfile
-import time
+from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 
-from dyntorsion import __version__
 from dyntorsion.app.cli_rtol import result_json
 from dyntorsion.beyond.contact.run import Contact, ContactScene, run_contact_scene
 from dyntorsion.buckling.scene import Scene
 from dyntorsion.genalpha.scheme import Scheme
-from dyntorsion.store.fingerprint import code_fingerprint
+from records import provenance, write
 
 A, KAPPA0, DT, T_END = 16.0, 10.0, 0.01, 3.2
 GRIDS = [(50, 2.5e-4), (100, 2.5e-4), (200, 2.5e-4), (400, 2.5e-4), (800, 2.5e-4), (400, 1.25e-4),
@@ -61,55 +59,53 @@ def params() -> dict:
 ROOTS = ("dyntorsion.beyond.contact.run:run_contact_scene",)
 
 
-def code() -> dict:
-    return {"dyntorsion": __version__,
-            "script_sha256": hashlib.sha256(Path(__file__).read_bytes()).hexdigest(),
-            "code_fingerprint": code_fingerprint(ROOTS)}  # fmt: skip
+def grid_run(n: int, step: float) -> dict:
+    """The run from rest to ``T_END`` on N = n with the longest substep ``step``."""
+    scene = Scene(a=A, kappa0=KAPPA0, t_end=T_END, n_cells=n, dt=DT)
+    res = run_contact_scene(ContactScene(scene, Contact(max_step=step))).result()
+    return json.loads(result_json({"n_cells": n, "max_step": step, **{k: res[k] for k in KEYS}}))
 
 
-def write(record: dict) -> None:
-    OUT.parent.mkdir(parents=True, exist_ok=True)
-    with tempfile.NamedTemporaryFile("w", dir=OUT.parent, delete=False) as f:
-        json.dump(record, f, indent=1)
-    os.replace(f.name, OUT)
+def past_run(n: int, lam_t: float, t_end: float, route: str) -> dict:
+    """The run past the first contact to ``t_end`` (its whole result)."""
+    scene = Scene(a=A, kappa0=KAPPA0, t_end=t_end, n_cells=n, dt=DT,
+                  scheme=Scheme(lam_t=lam_t))  # fmt: skip
+    res = run_contact_scene(ContactScene(scene, Contact(route=route))).result()
+    res = json.loads(result_json(res))  # numpy scalars as Python ones, NaN as null
+    return {"n_cells": n, "lam_t": lam_t, "t_end": t_end, "route": route, "result": res}
 
 
-def main() -> int:
-    record = {"params": params(), "code": code(), "runs": [], "past": []}
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--jobs", type=int, default=1, help="runs at once (processes)")
+    jobs = ap.parse_args(argv).jobs
+    record = {"params": params(), "code": provenance(__file__, ROOTS), "runs": [], "past": []}
     if OUT.exists():
         old = json.loads(OUT.read_text())
         if old.get("params") == record["params"] and old.get("code") == record["code"]:
             record = old
     done = {(r["n_cells"], r["max_step"]) for r in record["runs"]}
-    for n, step in GRIDS:
-        if (n, step) in done:
-            continue
-        tick = time.perf_counter()
-        scene = Scene(a=A, kappa0=KAPPA0, t_end=T_END, n_cells=n, dt=DT)
-        res = run_contact_scene(ContactScene(scene, Contact(max_step=step))).result()
-        row = json.loads(result_json({"n_cells": n, "max_step": step, **{k: res[k] for k in KEYS}}))
-        record["runs"].append(row)
-        write(record)
-        print(f"N = {n:4d} max_step {step:.3g}: first contact {row['first_contact_t']} s, "
-              f"Lk - Tw - Wr {row['max_link_gap_turns']:.4f} turns, cell bend "
-              f"{row['max_cell_bend']:.3f} rad ({time.perf_counter() - tick:.0f} s)", flush=True)  # fmt: skip
-    done = {(r["n_cells"], r["lam_t"], r["t_end"], r["route"]) for r in record["past"]}
-    for n, lam_t, t_end, route in PAST:
-        if (n, lam_t, t_end, route) in done:
-            continue
-        scene = Scene(a=A, kappa0=KAPPA0, t_end=t_end, n_cells=n, dt=DT,
-                      scheme=Scheme(lam_t=lam_t))  # fmt: skip
-        res = run_contact_scene(ContactScene(scene, Contact(route=route))).result()
-        res = json.loads(result_json(res))  # numpy scalars as Python ones, NaN as null
-        record["past"].append(
-            {"n_cells": n, "lam_t": lam_t, "t_end": t_end, "route": route, "result": res}
-        )
-        write(record)
-        print(
-            f"past contact, N = {n}, lam_t = {lam_t}, {route}: {res['stopped'][:60]} at "
-            f"{res['t_last']} s ({res['wall_time']:.0f} s)",
-            flush=True,
-        )
+    done |= {(r["n_cells"], r["lam_t"], r["t_end"], r["route"]) for r in record["past"]}
+    todo = [("runs", g) for g in GRIDS if g not in done]
+    todo += [("past", p) for p in PAST if p not in done]
+    order = {("runs", g): i for i, g in enumerate(GRIDS)} | {
+        ("past", p): i for i, p in enumerate(PAST)
+    }
+    todo.sort(key=lambda job: -job[1][0])  # the finest grids first: they take longest
+    with ProcessPoolExecutor(max_workers=max(1, jobs)) as pool:
+        futures = {pool.submit(grid_run if part == "runs" else past_run, *args): (part, args)
+                   for part, args in todo}  # fmt: skip
+        for fut in as_completed(futures):
+            part, args = futures[fut]
+            row = fut.result()
+            record[part].append(row)
+            key = (lambda r: (r["n_cells"], r["max_step"])) if part == "runs" else (
+                lambda r: (r["n_cells"], r["lam_t"], r["t_end"], r["route"]))  # fmt: skip
+            record[part].sort(key=lambda r: order[(part, key(r))])
+            write(OUT, record, indent=1)
+            res = row if part == "runs" else row["result"]
+            print(f"{part} {args}: {str(res['stopped'])[:60]}, first contact "
+                  f"{res['first_contact_t']} s ({res['wall_time']:.0f} s)", flush=True)  # fmt: skip
     return 0
 
 

@@ -25,7 +25,11 @@ there: one place for them), in dyntorsion's terms:
   turns 0.8988 of what is asked: data/README and the Past contact page.)
 * contact: dyntorsion's law (a penalty per length ``STIFFNESS`` with damping ratio 0.5,
   ``Contact``) in place of ``RodSelfContact`` (k = 1e4 N/m per element pair, nu = 10),
-  with the axis beyond both ends as an obstacle (the closure of the writhe).
+  with the axis beyond both ends as an obstacle (the closure of the writhe); parts of the
+  rod closer along it than ``MIN_ARC`` = 1.47 D never touch, the arc RodSelfContact skips.
+  (The first record, with min_arc = 3 D and k = 1e7, passed through itself at 32.3 s: the
+  plectoneme's tip closed to a curvature radius of 0.30 D, its two sides less than 3 D
+  apart along the rod.)
 * imperfection: a point force ``SEED`` N along d1 at mid-length, for all t, in place of
   PyElastica's lateral velocity kick of 1e-4 m/s at the middle node every step of the
   twisting phase.
@@ -39,23 +43,26 @@ plectoneme`, applied to PyElastica's final centreline too).  Written atomically 
 run; a rerun resumes when the parameters, this script and the code fingerprint of
 ``run_contact_scene`` are unchanged (else it starts again).
 
-Run: ``python benchmarks/plectoneme_dyntorsion.py`` (minutes per run on one core).
+Grids (``RUNS``): N = 100 at two steps, and N = 150.  Coarser grids do not hold the tip: N = 75,
+dt = 0.02 s stopped as under-resolved at 37.6 s (a cell of 0.27 D bent by 1 rad) and N = 50 at
+29.5 s (measured 2026-11-26).
+
+Run: ``python benchmarks/plectoneme_dyntorsion.py [--jobs J]`` (an hour or more a run on one
+core; each run's wall time is in the record).
 """
 
 from __future__ import annotations
 
-import hashlib
+import argparse
 import json
 import math
-import os
 import sys
-import tempfile
-import time
+from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from dyntorsion import Rod, __version__  # noqa: E402
+from dyntorsion import Rod  # noqa: E402
 from dyntorsion.app.cli_rtol import result_json  # noqa: E402
 from dyntorsion.beyond.contact.plectoneme import plectoneme_turns  # noqa: E402
 from dyntorsion.beyond.contact.run import Contact, ContactScene, run_contact_scene  # noqa: E402
@@ -63,19 +70,24 @@ from dyntorsion.buckling.scene import Scene  # noqa: E402
 from dyntorsion.buckling.seed import Perturbation  # noqa: E402
 from dyntorsion.buckling.turning import TurnHold  # noqa: E402
 from dyntorsion.genalpha.scheme import Scheme  # noqa: E402
-from dyntorsion.store.fingerprint import code_fingerprint  # noqa: E402
-from pyelastica_plectoneme import LENGTH, MASS, RADIUS, SHEAR, T_HOLD, T_TWIST, TURNS, E  # noqa: E402
+from pyelastica_plectoneme import LENGTH, MASS, N_ELEM, RADIUS, SHEAR, T_HOLD, T_TWIST, TURNS, E  # noqa: E402
+from records import provenance, write  # noqa: E402
 
 T_END = T_TWIST + T_HOLD
 TAU = 0.1
 #: PyElastica's damper, nu = 2 / (rho A) [1/s], as a force and moment per length (docstring)
 VISCOUS = 2.0
-STIFFNESS = 1e7
+#: the package's default contact stiffness [N/m^2] (an overlap of 0.6 % D measured at N = 50
+#: where 1e7 gave 2.5 %)
+STIFFNESS = Contact().stiffness
+#: RodSelfContact never lets elements fewer than 1 + ceil(0.8 pi r n / L) apart touch (11 of
+#: its 150 elements, 0.073 m): the same arc, in diameters, is the contact's ``min_arc``
+MIN_ARC = (1 + math.ceil(0.8 * math.pi * RADIUS * N_ELEM / LENGTH)) * LENGTH / N_ELEM / (2 * RADIUS)
 SEED = 1e-3
 LAM_T = -0.8
 CHECK = 0.1
 #: (cells, time step [s]) of each run
-RUNS = [(100, 0.01), (100, 0.02), (75, 0.01)]
+RUNS = [(100, 0.02), (100, 0.01), (150, 0.02)]
 OUT = Path(__file__).resolve().parents[1] / "data" / "bench" / "dyntorsion_plectoneme.json"
 ROOTS = ("dyntorsion.beyond.contact.run:run_contact_scene",)
 
@@ -91,28 +103,15 @@ def contact_scene(n: int, dt: float) -> ContactScene:
         dt=dt, t_end=T_END, scheme=Scheme(lam_t=LAM_T), seed=Perturbation(SEED, form="point"),
     )  # fmt: skip
     contact = Contact(stiffness=STIFFNESS, viscous=VISCOUS, viscous_moment=VISCOUS,
-                      max_step=dt, check=CHECK)  # fmt: skip
+                      max_step=dt, check=CHECK, min_arc=MIN_ARC)  # fmt: skip
     return ContactScene(scene, contact)
 
 
 def params() -> dict:
     return {"turns": TURNS, "t_turn": T_TWIST, "t_hold": T_HOLD, "tau": TAU,
-            "rod": rod().params(), "viscous": VISCOUS, "stiffness": STIFFNESS, "seed": SEED,
+            "rod": rod().params(), "viscous": VISCOUS, "stiffness": STIFFNESS, "min_arc": MIN_ARC, "seed": SEED,
             "lam_t": LAM_T, "check": CHECK, "runs": [list(r) for r in RUNS],
             "key": contact_scene(*RUNS[0]).params()}  # fmt: skip
-
-
-def code() -> dict:
-    return {"dyntorsion": __version__,
-            "script_sha256": hashlib.sha256(Path(__file__).read_bytes()).hexdigest(),
-            "code_fingerprint": code_fingerprint(ROOTS)}  # fmt: skip
-
-
-def write(record: dict) -> None:
-    OUT.parent.mkdir(parents=True, exist_ok=True)
-    with tempfile.NamedTemporaryFile("w", dir=OUT.parent, delete=False) as f:
-        json.dump(record, f)
-    os.replace(f.name, OUT)
 
 
 def one(n: int, dt: float) -> dict:
@@ -135,25 +134,29 @@ def one(n: int, dt: float) -> dict:
     }  # fmt: skip
 
 
-def main() -> int:
-    record = {"params": params(), "code": code(), "runs": []}
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--jobs", type=int, default=1, help="runs at once (processes)")
+    jobs = ap.parse_args(argv).jobs
+    record = {"params": params(), "code": provenance(__file__, ROOTS), "runs": []}
     if OUT.exists():
         old = json.loads(OUT.read_text())
         if old.get("params") == record["params"] and old.get("code") == record["code"]:
             record = old
     done = {(r["n_cells"], r["dt"]) for r in record["runs"]}
-    for n, dt in RUNS:
-        if (n, dt) in done:
-            continue
-        tick = time.perf_counter()
-        row = one(n, dt)
-        record["runs"].append(row)
-        write(record)
-        res = row["result"]
-        print(f"N = {n}, dt = {dt:g}: {res['stopped'][:60]} at {res['t_last']} s; link "
-              f"{res['link_turns']:.3f}, twist {res['twist_turns']:.3f}, writhe "
-              f"{res['writhe_turns']:.3f}, plectoneme {row['plectoneme']['turns']:.2f} turns "
-              f"({time.perf_counter() - tick:.0f} s)", flush=True)  # fmt: skip
+    todo = [run for run in RUNS if tuple(run) not in done]
+    with ProcessPoolExecutor(max_workers=max(1, jobs)) as pool:
+        futures = {pool.submit(one, n, dt): (n, dt) for n, dt in todo}
+        for fut in as_completed(futures):
+            n, dt = futures[fut]
+            row = fut.result()
+            record["runs"].append(row)
+            write(OUT, record)
+            res = row["result"]
+            print(f"N = {n}, dt = {dt:g}: {res['stopped'][:60]} at {res['t_last']} s; link "
+                  f"{res['link_turns']:.3f}, twist {res['twist_turns']:.3f}, writhe "
+                  f"{res['writhe_turns']:.3f}, plectoneme {row['plectoneme']['turns']:.2f} turns "
+                  f"({res['wall_time']:.0f} s)", flush=True)  # fmt: skip
     return 0
 
 

@@ -38,17 +38,14 @@ fingerprint are unchanged.  Run: ``python benchmarks/plectoneme_tension.py``.
 
 from __future__ import annotations
 
-import hashlib
 import json
 import math
-import os
-import tempfile
 import time
 from pathlib import Path
 
 import numpy as np
 
-from dyntorsion import Rod, __version__
+from dyntorsion import Rod
 from dyntorsion.app.cli_rtol import result_json
 from dyntorsion.beyond.contact.plectoneme import plectoneme_turns
 from dyntorsion.beyond.contact.run import Contact, ContactScene, run_contact_scene
@@ -59,7 +56,7 @@ from dyntorsion.buckling.seed import Perturbation
 from dyntorsion.buckling.statics import critical_twist
 from dyntorsion.buckling.turning import TurnHold
 from dyntorsion.genalpha.scheme import Scheme
-from dyntorsion.store.fingerprint import code_fingerprint
+from records import provenance, write
 
 RADIUS, E, LENGTH = 0.025, 1e6, 2.5
 TENSION = 5.0
@@ -99,19 +96,6 @@ def params() -> dict:
             "stiffness": STIFFNESS, "seed": SEED,
             "bracket": {"F": list(F), "t_turn": T_BRACKET, "t_hold": T_HOLD, "n_cells": N_BRACKET},
             "curve": {"turns": TURNS, "t_turn": T_TURN, "t_end": T_END, "tau": TAU}}  # fmt: skip
-
-
-def code() -> dict:
-    return {"dyntorsion": __version__,
-            "script_sha256": hashlib.sha256(Path(__file__).read_bytes()).hexdigest(),
-            "code_fingerprint": code_fingerprint(ROOTS)}  # fmt: skip
-
-
-def write(record: dict) -> None:
-    OUT.parent.mkdir(parents=True, exist_ok=True)
-    with tempfile.NamedTemporaryFile("w", dir=OUT.parent, delete=False) as f:
-        json.dump(record, f)
-    os.replace(f.name, OUT)
 
 
 def bracket(kc: float) -> list[dict]:
@@ -165,7 +149,7 @@ def curve() -> dict:
 
 
 def main() -> int:
-    record = {"params": params(), "code": code(), "theory": theory()}
+    record = {"params": params(), "code": provenance(__file__, ROOTS), "theory": theory()}
     if OUT.exists():
         old = json.loads(OUT.read_text())
         if all(old.get(k) == record[k] for k in ("params", "code", "theory")):
@@ -177,7 +161,7 @@ def main() -> int:
         tick = time.perf_counter()
         record[name] = part()
         record[f"{name}_wall_seconds"] = time.perf_counter() - tick
-        write(record)
+        write(OUT, record)
         print(f"{name} done ({time.perf_counter() - tick:.0f} s)", flush=True)
     return 0
 
