@@ -95,6 +95,7 @@ release-check: $(VENV)/.release-installed
 bench: $(VENV)/.test-installed
 	$(PY) benchmarks/bench_engine.py
 	$(PY) benchmarks/bench_scenes.py
+	OPENBLAS_NUM_THREADS=1 $(PY) benchmarks/bench_contact.py
 	$(PY) benchmarks/bench_targets.py
 
 clean:
