@@ -68,6 +68,34 @@ def test_the_cli_reads_a_stored_contact_run(tmp_path, capsys):
     assert one["plectoneme_turns"] is not None
 
 
+def test_the_cli_passes_the_contact_options_and_names_a_bad_one(monkeypatch, capsys):
+    """--contact-min-arc and the other --contact-* options reach the Contact; a value out of
+    range is refused with the parameter's name and range, before any run."""
+    import dyntorsion.app.contact_cli as cli
+
+    seen = {}
+
+    class Done:
+        def result(self):
+            return {"stopped": "t_end"}
+
+    def fake(cs):
+        seen["contact"] = cs.contact
+        return Done()
+
+    monkeypatch.setattr(cli, "run_contact_scene", fake)
+    base = ["buckle", "--a", "16", "--kappa0", "10", "--contact", "--t-end", "3.3",
+            "--fidelity", "quick", "--json"]  # fmt: skip
+    assert main(base + ["--contact-min-arc", "1.5", "--contact-stiffness", "2e7",
+                        "--contact-max-cell-bend", "2"]) == 0  # fmt: skip
+    c = seen["contact"]
+    assert (c.min_arc, c.stiffness, c.max_cell_bend) == (1.5, 2e7, 2.0)
+    capsys.readouterr()
+    seen.clear()
+    assert main(base + ["--contact-min-arc", "0.5"]) != 0
+    assert "min_arc=0.5 must be >= 1" in capsys.readouterr().err and not seen
+
+
 def test_only_contact_scenes_are_cached():
     with pytest.raises(TypeError, match="ContactScene"):
         contact_run(scene().scene)

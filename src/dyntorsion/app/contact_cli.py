@@ -29,6 +29,9 @@ def add_contact_options(b: argparse.ArgumentParser) -> None:
                    help=f"penalty stiffness per length k [N/m^2] (default {d.stiffness:g})")  # fmt: skip
     g.add_argument("--contact-damping", type=float, default=d.damping,
                    help=f"damping ratio of the contact (default {d.damping:g})")  # fmt: skip
+    g.add_argument("--contact-min-arc", type=float, default=d.min_arc,
+                   help="parts of the rod closer than this along it never touch, in diameters "
+                   f"(default {d.min_arc:g}; PyElastica's RodSelfContact skips about 1.5)")  # fmt: skip
     g.add_argument("--contact-max-step", type=float, default=d.max_step,
                    help="implicit contact: the longest step near contact [s] (default "
                    f"{d.max_step:g}; the scene's step elsewhere)")  # fmt: skip
@@ -52,6 +55,7 @@ def buckle_contact(args: argparse.Namespace, scene: Scene) -> int:
         raise ValueError("--contact needs --t-end T [s]: how long to follow the rod past contact")
     contact = Contact(
         stiffness=args.contact_stiffness, damping=args.contact_damping, viscous=args.viscous,
+        min_arc=args.contact_min_arc,
         viscous_moment=args.viscous_moment,
         implicit=not args.contact_lagged, max_step=args.contact_max_step,
         max_cell_bend=args.contact_max_cell_bend,
