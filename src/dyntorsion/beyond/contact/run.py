@@ -81,7 +81,7 @@ class Contact:
         cell, ds |kappa_b|, passes it [rad], > 0.  Measured, a = 16: the loop after the
         first contact tightens to a radius of a few D (3.5 D at N = 400 within 0.26 s);
         N = 200 failed in Newton once a cell held 1.5-2.1 rad; N = 400 with lambda_inf =
-        -0.8 in time (0.72 rad) ran on to 3.45 s (data/contact/first_contact.json).
+        -0.8 in time (0.83 rad) ran on to 3.45 s (data/contact/first_contact.json).
     smooth : implicit: the clip of the law smoothed over a force of ``smooth`` k D
         (:mod:`.implicit`, C3), in (0, 1].
     check : interval of the topology check and of the recorded histories [s], > 0.
