@@ -43,9 +43,10 @@ plectoneme`, applied to PyElastica's final centreline too).  Written atomically 
 run; a rerun resumes when the parameters, this script and the code fingerprint of
 ``run_contact_scene`` are unchanged (else it starts again).
 
-Grids (``RUNS``): N = 100 at two steps, and N = 150.  Coarser grids do not hold the tip: N = 75,
-dt = 0.02 s stopped as under-resolved at 37.6 s (a cell of 0.27 D bent by 1 rad) and N = 50 at
-29.5 s (measured 2026-11-26).
+Grids (``RUNS``, the longest first): N = 200 and 150 at dt = 0.02 s, N = 100 at 0.01 and
+0.02 s.  Coarser grids do not hold the plectoneme's tip: N = 75, dt = 0.02 s stopped as
+under-resolved at 37.6 s (a cell of 0.27 D bent by 1 rad) and N = 50 at 29.5 s (measured
+2026-11-26).
 
 Run: ``python benchmarks/plectoneme_dyntorsion.py [--jobs J]`` (an hour or more a run on one
 core; each run's wall time is in the record).
@@ -87,7 +88,7 @@ SEED = 1e-3
 LAM_T = -0.8
 CHECK = 0.1
 #: (cells, time step [s]) of each run
-RUNS = [(100, 0.02), (100, 0.01), (150, 0.02)]
+RUNS = [(200, 0.02), (150, 0.02), (100, 0.01), (100, 0.02)]
 OUT = Path(__file__).resolve().parents[1] / "data" / "bench" / "dyntorsion_plectoneme.json"
 ROOTS = ("dyntorsion.beyond.contact.run:run_contact_scene",)
 

@@ -65,26 +65,64 @@ def side():
     return _load("dyntorsion_plectoneme.json", "plectoneme_dyntorsion.py")
 
 
-def test_the_side_by_side_run_follows_pyelastica_until_the_tip_passes_through(side):
-    """dyntorsion's N = 100 run of PyElastica's scene: from 12 s to the passage the run
-    ends at (the tip closes tighter than the contact's min_arc), the writhe and the sliding
-    end follow PyElastica's within 0.1 turns and 1 cm in the median (measured 0.073, 0.0087),
-    0.45 turns and 4 cm at worst (0.36, 0.035, both at 12.1 s, where a loop forms a few tenths
-    of a second apart in the two codes); the writhe passes 0.1 turns at 8.5 s and 8.4 s."""
+def test_the_side_by_side_runs_follow_pyelastica_until_its_passage(side):
+    """Every run of PyElastica's scene in dyntorsion (min_arc = the arc RodSelfContact skips,
+    1.47 D): from 12 s to PyElastica's passage (its link drops by 2 at 46.4 s) the writhe and
+    the sliding end follow PyElastica's within 0.15 turns and 1 cm in the median (measured
+    0.086-0.124 turns, 5-7 mm), 0.45 turns and 5 cm at worst (0.36, 3.5 cm, where a loop
+    forms a few tenths of a second apart in the two codes); the writhe passes 0.1 turns
+    within 0.3 s of PyElastica's (8.5 s against 8.4 s)."""
     pe = json.loads((ROOT / "data" / "bench" / "pyelastica_plectoneme.json").read_text())["result"]
-    run = next(r for r in side["runs"] if (r["n_cells"], r["dt"]) == (100, 0.01))
-    h, res = run["history"], run["result"]
-    t = np.asarray(h["t"])
-    wr, z = np.asarray(h["writhe_turns"]), np.asarray(h["end_axial_position"])
     t_pe = np.asarray(pe["t"])
-    assert abs(t[np.argmax(wr > 0.1)] - t_pe[np.argmax(np.asarray(pe["writhe_turns"]) > 0.1)]) < 0.3
-    assert res["stopped"].startswith("passage") and 30.0 < res["t_last"] < 35.0
-    both = (t > 12.0) & (t < res["t_last"] - 1.0)
-    dwr = np.abs(wr[both] - np.interp(t[both], t_pe, pe["writhe_turns"]))
-    dz = np.abs(z[both] - np.interp(t[both], t_pe, pe["end_axial_position"]))
-    assert np.median(dwr) < 0.1 and dwr.max() < 0.45
-    assert np.median(dz) < 0.01 and dz.max() < 0.04
-    assert abs(res["energy_residual"]) < 0.01 and res["max_cell_bend"] / 0.01 > 1 / 0.025
+    passage = t_pe[np.argmax(np.diff(pe["link_turns"]) < -1.0) + 1]
+    assert 46.0 < passage < 47.0
+    assert len(side["runs"]) >= 3
+    for run in side["runs"]:
+        h = run["history"]
+        t = np.asarray(h["t"])
+        wr, z = np.asarray(h["writhe_turns"]), np.asarray(h["end_axial_position"])
+        buckle = t[np.argmax(wr > 0.1)] - t_pe[np.argmax(np.asarray(pe["writhe_turns"]) > 0.1)]
+        assert abs(buckle) < 0.3
+        both = (t > 12.0) & (t < passage - 0.5)
+        dwr = np.abs(wr[both] - np.interp(t[both], t_pe, pe["writhe_turns"]))
+        dz = np.abs(z[both] - np.interp(t[both], t_pe, pe["end_axial_position"]))
+        assert np.median(dwr) < 0.15 and dwr.max() < 0.45
+        assert np.median(dz) < 0.01 and dz.max() < 0.05
+
+
+def test_no_run_passes_through_itself_and_the_finer_grids_run_to_the_end(side):
+    """No run passes the rod through itself.  N = 150 and 200 run to 100 s (the tip at a
+    curvature radius of 0.37 and 0.40 D at its tightest): their writhes agree within 0.1
+    turns over the whole run (measured 0.049) and their plectonemes within 0.05 turns (1.44,
+    1.45); the energy budget closes within 0.1 % (measured 6e-5, 8e-7); Lk - Tw - Wr falls
+    with N (0.088, 0.042: the issue's 0.01 not met) and the overlap stays under 3 % D
+    (1.8 %, 2.2 %: the issue's 1 % not met after ~40 s), pinned as measured.  N = 100 at
+    both steps stops as under-resolved within 5 s of the end of the turning, the tip closed
+    to one cell; its two steps' writhes agree within 0.1 turns to 50 s (measured 0.068)."""
+    runs = {(r["n_cells"], r["dt"]): r for r in side["runs"]}
+    t_turn, t_end = side["params"]["t_turn"], side["params"]["t_turn"] + side["params"]["t_hold"]
+    for run in runs.values():
+        assert not run["result"]["stopped"].startswith("passage")
+    fine = [runs[(200, 0.02)], runs[(150, 0.02)]]
+    for run in fine:
+        res = run["result"]
+        assert res["stopped"] == "t_end" and res["t_last"] == t_end
+        assert res["max_cell_bend"] < 0.5 and abs(res["energy_residual"]) < 1e-3
+        assert res["max_penetration_over_D"] < 0.03 and res["max_link_gap_turns"] < 0.1
+        assert 1.3 < abs(run["plectoneme"]["turns"]) < 1.6
+    assert fine[0]["result"]["max_link_gap_turns"] < fine[1]["result"]["max_link_gap_turns"]
+    whole = np.arange(1.0, t_end + 1e-9, 0.1)
+    wa, wb = (np.interp(whole, r["history"]["t"], r["history"]["writhe_turns"]) for r in fine)
+    assert np.abs(wa - wb).max() < 0.1
+    assert abs(abs(fine[0]["plectoneme"]["turns"]) - abs(fine[1]["plectoneme"]["turns"])) < 0.05
+    coarse = [runs[(100, 0.01)], runs[(100, 0.02)]]
+    for run in coarse:
+        res = run["result"]
+        assert res["stopped"].startswith("under-resolved")
+        assert t_turn < res["t_last"] < t_turn + 5.0 and 1.0 <= res["max_cell_bend"] < 1.1
+    until = np.arange(1.0, t_turn + 1e-9, 0.1)
+    wa, wb = (np.interp(until, r["history"]["t"], r["history"]["writhe_turns"]) for r in coarse)
+    assert np.abs(wa - wb).max() < 0.1
 
 
 def test_the_torque_rotation_curve_rises_jumps_and_levels_above_the_ply_theory(tension):
