@@ -13,14 +13,28 @@ should sit near the crossing (printed).  Run it with one BLAS thread
 (``OPENBLAS_NUM_THREADS=1``) when other processes share the cores.  Medians of repeated runs on a shared machine: compare the
 ratios.  Nothing is asserted.
 
-Run: ``python benchmarks/bench_contact.py``.
+With ``--baseline COMMIT`` it also runs a whole scene past contact with the code of this
+checkout and of COMMIT (a temporary git worktree, alternating subprocesses so that both see
+the same load): PyElastica's plectoneme scene (``benchmarks/plectoneme_dyntorsion.py``) on
+N = 100, dt = 0.02 s to t = 30 s (first contact at 8.9 s, the plectoneme forming from
+~12 s), after one run of each that compiles its kernels, and prints the seconds per contact step, the run's wall time and its writhe at the
+end (the same to rounding in both).
+
+Run: ``python benchmarks/bench_contact.py [--baseline 99c8d9e] [--rounds R]`` (99c8d9e: the
+contact step before the sparse LU and the compiled gathering).
 """
 
 from __future__ import annotations
 
+import argparse
+import json
 import platform
 import statistics
+import subprocess
+import sys
+import tempfile
 import time
+from pathlib import Path
 
 import numpy as np
 
@@ -69,7 +83,62 @@ def case(n: int, m: int, rng):
     return w, fac, C, cols
 
 
+ROOT = Path(__file__).resolve().parents[1]
+
+SCENE = r"""
+import json, math, sys, time
+sys.path.insert(0, sys.argv[1])
+from dyntorsion import Rod
+from dyntorsion.beyond.contact.run import Contact, ContactScene, run_contact_scene
+from dyntorsion.buckling.scene import Scene
+from dyntorsion.buckling.seed import Perturbation
+from dyntorsion.buckling.turning import TurnHold
+from dyntorsion.genalpha.scheme import Scheme
+r = 0.025
+rod = Rod(E=1e6, nu=-0.25, D=2 * r, L=1.0, rho=1.0 / (math.pi * r * r))
+scene = Scene(history=TurnHold(10, 50.0, tau=0.1), ends="clamped-turned", rod=rod, n_cells=100,
+              dt=0.02, t_end=30.0, scheme=Scheme(lam_t=-0.8), seed=Perturbation(1e-3, form="point"))
+c = Contact(viscous=2.0, viscous_moment=2.0, max_step=0.02, check=0.1, min_arc=1.4666666666666666)
+t0 = time.perf_counter()
+res = run_contact_scene(ContactScene(scene, c)).result()
+print(json.dumps({"wall": time.perf_counter() - t0, "writhe": res["writhe_turns"],
+                  "contact_step": res["implicit"]["seconds_per_contact_step"],
+                  "contact_steps": res["implicit"]["contact_steps"]}))
+"""
+
+
+def scene_against(baseline: str, rounds: int) -> None:
+    """The plectoneme scene with this checkout's code and ``baseline``'s (module docstring)."""
+    with tempfile.TemporaryDirectory() as tmp:
+        wt = Path(tmp) / "baseline"
+        subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "--detach", "-q", str(wt),
+                        baseline], check=True)  # fmt: skip
+        try:
+            out = {"this checkout": [], f"baseline {baseline}": []}
+            for src in (ROOT / "src", wt / "src"):  # compile each tree's kernels first
+                subprocess.run([sys.executable, "-c", SCENE.replace("t_end=30.0", "t_end=9.5"),
+                                str(src)], check=True, capture_output=True)  # fmt: skip
+            for _ in range(rounds):
+                for key, src in zip(out, (ROOT / "src", wt / "src"), strict=True):
+                    run = subprocess.run([sys.executable, "-c", SCENE, str(src)], check=True,
+                                         capture_output=True, text=True)  # fmt: skip
+                    out[key].append(json.loads(run.stdout.strip().splitlines()[-1]))
+        finally:
+            subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force", str(wt)])
+    print("PyElastica's plectoneme scene, N = 100, dt = 0.02 s, to 30 s (medians of "
+          f"{rounds} alternating runs):")  # fmt: skip
+    for key, runs in out.items():
+        step = statistics.median(r["contact_step"] for r in runs)
+        wall = statistics.median(r["wall"] for r in runs)
+        print(f"  {key:<22} {step:.4f} s a contact step ({runs[0]['contact_steps']} steps), "
+              f"run {wall:.1f} s, writhe at 30 s {runs[0]['writhe']:.6f} turns")  # fmt: skip
+
+
 def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--baseline", help="also run a scene past contact with this commit's code")
+    ap.add_argument("--rounds", type=int, default=1, help="alternating runs of each (default 1)")
+    args = ap.parse_args()
     print(f"dyntorsion {__version__}, python {platform.python_version()}, the sparse LU from "
           f"{sparse_from(100)} / {sparse_from(400)} / {sparse_from(800)} columns at N = 100 / 400 / 800")  # fmt: skip
     print(f"{'N':>5} {'nodes':>6} {'columns':>8} {'Woodbury [ms]':>14} {'sparse LU [ms]':>15} "
@@ -89,6 +158,8 @@ def main() -> int:
             ts = median_ms(sparse_solve, w.left, w.A, w.B, w.right, r, C, cols, b)
             print(f"{n:>5} {m:>6} {cols.size:>8} {tw:>14.2f} {ts:>15.2f} {tw / ts:>6.2f} "
                   f"{diff:>10.1e}", flush=True)  # fmt: skip
+    if args.baseline:
+        scene_against(args.baseline, args.rounds)
     return 0
 
 
