@@ -8,9 +8,10 @@ Each step: the candidate pairs from the known level (:func:`.implicit.candidates
 the engine's compiled Newton solve of the step (:func:`~dyntorsion.genalpha.newton.solve_step`,
 the same as a scene without contact, with its retry from the other predictor); some: a
 full Newton solve with the contact's source and Jacobian columns (:mod:`.linear`: Woodbury
-on the banded factors, or a sparse LU for many columns) at every iteration.  Between steps the same bookkeeping as the lagged route
-(:class:`.between._Between`: rebuild, law on the rebuilt shape for the reported overlap,
-energy budget with the source the step used, topology), so both routes report alike.
+on the banded factors, or a sparse LU for many columns) at every iteration.  Between steps
+the same bookkeeping as the lagged route (:class:`.between._Between`: rebuild, law on the
+rebuilt shape for the reported overlap, energy budget with the source the step used,
+topology), so both routes report alike.
 """
 
 from __future__ import annotations
