@@ -1,0 +1,117 @@
+"""The paper's Fig 7 scene followed past its first contact (issue 33, item 4), written to
+``data/contact/fig07_continued.json``.
+
+The scene of Fig 7 and Fig 8 (Table 1 rod, kappa0 = 0, a = 1.6 rad/(m s), the stated seed,
+clamped ends of eq 30) with the package's contact (:class:`~dyntorsion.beyond.contact.run.
+Contact`, defaults: a penalty of 5e7 N/m^2 with damping ratio 0.5 on the time route of the
+centreline, the axis beyond both clamps an obstacle, substeps of at most 2.5e-4 s near
+contact) from rest, on the grids ``RUNS``: lambda_inf = -0.8 in time, as the runs past
+contact at a = 16 (``data/contact/first_contact.json``: at the paper's -1 a third of the
+contact steps' Newton solves failed there), N = 800 and 1600 (N = 200 and 400 failed the
+checks within a second of the first contact: measured 2026-11-26, a = 1.6 to 18-22 s, N =
+200 with a Newton failure at 17.91 s, N = 400 passed through itself at 18.17 s, both with
+the time route of the centreline turned by 2-5 rad from the shape of the 12 fields),
+N = 800 to 17.6 s and N = 1600 to 17.5 s, so that what the page shows can be told from the
+grid's error.  (N = 800 to 18.5 s had not finished after an hour of one core, 2026-11-26:
+the contact steps grow dearer as the loop coils; N = 1600 to 17.5 s took 18 minutes.)
+
+Every run records, every ``Contact.check`` = 0.01 s: link, twist and writhe, contact sites,
+the deepest overlap, the twisting moment at s = 0; and the centreline at the times ``SHOTS``
+(the snapshots of the page) and at the end.  Written atomically after every run; a rerun
+resumes when the parameters, this script and the code fingerprint of
+``run_contact_scene`` are unchanged (else it starts again).
+
+Run: ``python benchmarks/fig07_continued.py [--jobs J]`` (each run's wall time is in the
+record).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from dyntorsion.app.cli_rtol import result_json  # noqa: E402
+from dyntorsion.beyond.contact.run import Contact, ContactScene, run_contact_scene  # noqa: E402
+from dyntorsion.buckling.scene import Scene  # noqa: E402
+from dyntorsion.genalpha.scheme import Scheme  # noqa: E402
+from records import provenance, write  # noqa: E402
+
+A, KAPPA0 = 1.6, 0.0
+#: the scene's step away from contact [s] (the substeps near it: Contact.max_step)
+DT = 0.01
+#: (cells, lambda_inf in time, end [s]) of each run
+RUNS = [(800, -0.8, 17.6), (1600, -0.8, 17.5)]
+#: times of the recorded centrelines [s] (the page's snapshots), positions to 0.1 um
+SHOTS = tuple(float(t) for t in np.round(np.arange(16.9, 17.6 + 1e-9, 0.05), 2))
+DIGITS = 7
+OUT = Path(__file__).resolve().parents[1] / "data" / "contact" / "fig07_continued.json"
+ROOTS = ("dyntorsion.beyond.contact.run:run_contact_scene",)
+
+
+def contact_scene(n: int, lam_t: float, t_end: float) -> ContactScene:
+    scene = Scene(a=A, kappa0=KAPPA0, n_cells=n, dt=DT, t_end=t_end,
+                  scheme=Scheme(lam_t=lam_t))  # fmt: skip
+    return ContactScene(scene, Contact())
+
+
+def params() -> dict:
+    return {"a": A, "kappa0": KAPPA0, "dt": DT,
+            "runs": [list(r) for r in RUNS], "shots": list(SHOTS),
+            "key": contact_scene(*RUNS[0]).params()}  # fmt: skip
+
+
+def one(n: int, lam_t: float, t_end: float) -> dict:
+    run = run_contact_scene(contact_scene(n, lam_t, t_end))
+    res = json.loads(result_json(run.result()))
+    h = run.history
+    t = h["t"]
+    shots = {f"{ts:g}": np.round(h["r"][int(np.argmin(np.abs(t - ts)))], DIGITS).tolist()
+             for ts in SHOTS if ts <= t[-1] + 1e-9}  # fmt: skip
+    return {
+        "n_cells": n, "lam_t": lam_t, "t_end": t_end, "result": res,
+        "history": {
+            "t": t.tolist(), "link_turns": h["link"].tolist(),
+            "twist_turns": h["twist"].tolist(), "writhe_turns": h["writhe"].tolist(),
+            "sites": h["sites"].tolist(), "overlap_over_D": h["overlap_over_D"].tolist(),
+            "end_moment": h["end_moment"].tolist(),
+        },
+        "shots": shots,
+        "final_centreline": np.round(h["r"][-1], DIGITS).tolist(),
+    }  # fmt: skip
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--jobs", type=int, default=1, help="runs at once (processes)")
+    jobs = ap.parse_args(argv).jobs
+    record = {"params": params(), "code": provenance(__file__, ROOTS), "runs": []}
+    if OUT.exists():
+        old = json.loads(OUT.read_text())
+        if old.get("params") == record["params"] and old.get("code") == record["code"]:
+            record = old
+    done = {(r["n_cells"], r["lam_t"], r["t_end"]) for r in record["runs"]}
+    todo = [run for run in RUNS if tuple(run) not in done]
+    with ProcessPoolExecutor(max_workers=max(1, jobs)) as pool:
+        futures = {pool.submit(one, *run): run for run in todo}
+        for fut in as_completed(futures):
+            n, lam, _ = futures[fut]
+            row = fut.result()
+            record["runs"].append(row)
+            write(OUT, record)
+            res = row["result"]
+            print(f"N = {n}, lambda_t = {lam:g}: {res['stopped'][:70]} at {res['t_last']} s; "
+                  f"first contact {res['first_contact_t']}, link {res['link_turns']:.3f}, "
+                  f"writhe {res['writhe_turns']:.3f}, sites {res['max_contact_sites']} "
+                  f"({res['wall_time']:.0f} s)", flush=True)  # fmt: skip
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
