@@ -86,14 +86,14 @@ def test_the_link_and_overlap_checks_hold_on_both_grids(record):
 
 
 def test_the_grids_agree_while_the_checks_hold(record):
-    """Writhe and link of N = 800 and 1600 at the common checks up to the end of the finer
-    run agree to 0.05 turns."""
+    """Writhe, link and twist of N = 800 and 1600 at the checks of the finer run (to 17.5 s)
+    agree to 0.01 turns (measured 0.0022, 0.0029 and 0.0021)."""
     runs = _runs(record)
     h8, h16 = runs[800]["history"], runs[1600]["history"]
     t16 = np.asarray(h16["t"])
-    for key in ("writhe_turns", "link_turns"):
+    for key in ("writhe_turns", "link_turns", "twist_turns"):
         a = np.interp(t16, h8["t"], h8[key])
-        assert np.max(np.abs(a - np.asarray(h16[key]))) < 0.05, key
+        assert np.max(np.abs(a - np.asarray(h16[key]))) < 0.01, key
 
 
 def test_the_snapshots_are_the_recorded_shapes(record):
