@@ -15,8 +15,8 @@ ratios.  Nothing is asserted.
 
 With ``--baseline COMMIT`` it also runs a whole scene past contact with the code of this
 checkout and of COMMIT (a temporary git worktree, alternating subprocesses so that both see
-the same load): PyElastica's plectoneme scene (``benchmarks/plectoneme_dyntorsion.py``) on
-N = 100, dt = 0.02 s to t = 30 s (first contact at 8.9 s, the plectoneme forming from
+the same load): PyElastica's plectoneme scene (``benchmarks/plectoneme_dyntorsion.py``'s
+``contact_scene``, from this checkout in both runs) on N = 100, dt = 0.02 s to t = 30 s (first contact at 8.9 s, the plectoneme forming from
 ~12 s), after one run of each that compiles its kernels, and prints the seconds per contact step, the run's wall time and its writhe at the
 end (the same to rounding in both).
 
@@ -84,23 +84,18 @@ def case(n: int, m: int, rng):
 
 
 ROOT = Path(__file__).resolve().parents[1]
+#: this checkout's benchmarks: the scene is ``plectoneme_dyntorsion.contact_scene`` in both
+#: trees (one place for it), run with the package of each
+BENCH = str(ROOT / "benchmarks")
 
 SCENE = r"""
-import json, math, sys, time
-sys.path.insert(0, sys.argv[1])
-from dyntorsion import Rod
-from dyntorsion.beyond.contact.run import Contact, ContactScene, run_contact_scene
-from dyntorsion.buckling.scene import Scene
-from dyntorsion.buckling.seed import Perturbation
-from dyntorsion.buckling.turning import TurnHold
-from dyntorsion.genalpha.scheme import Scheme
-r = 0.025
-rod = Rod(E=1e6, nu=-0.25, D=2 * r, L=1.0, rho=1.0 / (math.pi * r * r))
-scene = Scene(history=TurnHold(10, 50.0, tau=0.1), ends="clamped-turned", rod=rod, n_cells=100,
-              dt=0.02, t_end=30.0, scheme=Scheme(lam_t=-0.8), seed=Perturbation(1e-3, form="point"))
-c = Contact(viscous=2.0, viscous_moment=2.0, max_step=0.02, check=0.1, min_arc=1.4666666666666666)
+import json, sys, time
+sys.path[:0] = [sys.argv[1], sys.argv[2]]
+from dyntorsion.beyond.contact.run import run_contact_scene
+from plectoneme_dyntorsion import contact_scene
+t_end = float(sys.argv[3])
 t0 = time.perf_counter()
-res = run_contact_scene(ContactScene(scene, c)).result()
+res = run_contact_scene(contact_scene(100, 0.02), t_end).result()
 print(json.dumps({"wall": time.perf_counter() - t0, "writhe": res["writhe_turns"],
                   "contact_step": res["implicit"]["seconds_per_contact_step"],
                   "contact_steps": res["implicit"]["contact_steps"]}))
@@ -116,12 +111,12 @@ def scene_against(baseline: str, rounds: int) -> None:
         try:
             out = {"this checkout": [], f"baseline {baseline}": []}
             for src in (ROOT / "src", wt / "src"):  # compile each tree's kernels first
-                subprocess.run([sys.executable, "-c", SCENE.replace("t_end=30.0", "t_end=9.5"),
-                                str(src)], check=True, capture_output=True)  # fmt: skip
+                subprocess.run([sys.executable, "-c", SCENE, str(src), BENCH, "9.5"], check=True,
+                               capture_output=True)  # fmt: skip
             for _ in range(rounds):
                 for key, src in zip(out, (ROOT / "src", wt / "src"), strict=True):
-                    run = subprocess.run([sys.executable, "-c", SCENE, str(src)], check=True,
-                                         capture_output=True, text=True)  # fmt: skip
+                    run = subprocess.run([sys.executable, "-c", SCENE, str(src), BENCH, "30"],
+                                         check=True, capture_output=True, text=True)  # fmt: skip
                     out[key].append(json.loads(run.stdout.strip().splitlines()[-1]))
         finally:
             subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force", str(wt)])
