@@ -129,3 +129,22 @@ def test_explicit_operators_at_extreme_steps(rng, dt):
     _abd.solve_lu(fac, rhs, x_lu)
     _abd.solve_explicit(fac, rhs, x_ex)
     assert np.max(np.abs(x_ex - x_lu)) <= 1e-7 * np.max(np.abs(x_lu))
+
+
+@pytest.mark.parametrize("nf,nbl,n", [(12, 6, 1), (12, 6, 9), (5, 2, 7), (3, 0, 4)])
+def test_sparse_form_is_the_dense_form(rng, nf, nbl, n):
+    """to_sparse holds the blocks where to_dense puts them, and adds the extra entries
+    (summed where they meet a block's entry, placed where they do not)."""
+    BL = rng.normal(size=(nbl, nf))
+    A = rng.normal(size=(n, nf, nf))
+    B = rng.normal(size=(n, nf, nf))
+    BR = rng.normal(size=(nf - nbl, nf))
+    J = _abd.to_dense(BL, A, B, BR)
+    assert np.array_equal(_abd.to_sparse(BL, A, B, BR).toarray(), J)
+    size = nf * (n + 1)
+    rows, cols = rng.integers(0, size, 30), rng.integers(0, size, 30)
+    keep = np.unique(rows * size + cols, return_index=True)[1]
+    rows, cols, vals = rows[keep], cols[keep], rng.normal(size=keep.size)
+    J[rows, cols] += vals
+    assert np.array_equal(_abd.to_sparse(BL, A, B, BR, extra=(rows, cols, vals)).toarray(), J)
+    assert _abd.sparse_pattern(n, nf, nbl)[0].size == _abd.to_sparse(BL, A, B, BR).nnz

@@ -37,9 +37,11 @@ Newton, step halvings) never build them.
 
 from __future__ import annotations
 
+from functools import cache
 from typing import NamedTuple
 
 import numpy as np
+import scipy.sparse as sps
 
 from .._numba import IndexMatrix, Indices, Matrix, Stack, Vector, jit, named
 
@@ -370,3 +372,33 @@ def to_banded(BL, A, B, BR):
         for k in range(max(0, i - lo), min(n, i + up + 1)):
             ab[up + i - k, k] = J[i, k]
     return (lo, up), ab
+
+
+@cache
+def sparse_pattern(n_cells: int, nf: int, nbl: int) -> tuple[np.ndarray, np.ndarray]:
+    """Row and column indices of the entries of BL, [A_j B_j] (j = 1..N) and BR in the
+    global matrix, in the order of ``np.concatenate([BL.ravel(), AB.ravel(), BR.ravel()])``
+    with ``AB[j] = [A_j B_j]`` (the layout of the module docstring)."""
+    f = np.arange(nf)
+    rows = [np.repeat(np.arange(nbl), nf)]
+    cols = [np.tile(f, nbl)]
+    j = np.arange(n_cells)[:, None, None]
+    rows.append(np.broadcast_to(nbl + nf * j + f[None, :, None], (n_cells, nf, 2 * nf)).ravel())
+    cols.append(np.broadcast_to(nf * j + np.arange(2 * nf)[None, None, :],
+                                (n_cells, nf, 2 * nf)).ravel())  # fmt: skip
+    rows.append(np.repeat(nbl + nf * n_cells + np.arange(nf - nbl), nf))
+    cols.append(nf * n_cells + np.tile(f, nf - nbl))
+    return np.concatenate(rows), np.concatenate(cols)
+
+
+def to_sparse(BL, A, B, BR, extra=None) -> sps.csc_matrix:
+    """The global matrix in compressed sparse columns, plus ``extra`` = (rows, columns,
+    values) of entries to add (summed where they meet the blocks' entries)."""
+    n_cells, nf, _ = A.shape
+    rows, cols = sparse_pattern(n_cells, nf, BL.shape[0])
+    data = [BL.ravel(), np.concatenate([A, B], axis=2).ravel(), BR.ravel()]
+    if extra is not None:
+        rows, cols = np.concatenate([rows, extra[0]]), np.concatenate([cols, extra[1]])
+        data.append(extra[2])
+    n = nf * (n_cells + 1)
+    return sps.csc_matrix((np.concatenate(data), (rows, cols)), shape=(n, n))

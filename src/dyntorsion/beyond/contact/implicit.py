@@ -74,7 +74,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from ... import shapes
-from ..._numba import jit
+from ..._numba import IndexMatrix, Matrix, Vector, jit
 from .law import LawParams, _closest, _share
 
 __all__ = ["StepParams", "Pairs", "candidates", "contact_source"]
@@ -97,28 +97,37 @@ class Pairs(NamedTuple):
     normal, ``d[p]`` the closest-point vector a - b at the known level, ``w[p]`` the
     law's weight."""
 
-    nodes: np.ndarray  # (P, 4) int64
-    sigma: np.ndarray  # (P, 4)
-    n: np.ndarray  # (P, 3)
-    d: np.ndarray  # (P, 3)
-    w: np.ndarray  # (P,)
+    nodes: IndexMatrix  # (P, 4)
+    sigma: Matrix  # (P, 4)
+    n: Matrix  # (P, 3)
+    d: Matrix  # (P, 3)
+    w: Vector  # (P,)
+
+    @classmethod
+    def empty(cls, size: int) -> Pairs:
+        """Room for ``size`` pairs (filled by :func:`_gather_kernel`)."""
+        return cls(np.empty((size, 4), np.int64), np.empty((size, 4)), np.empty((size, 3)),
+                   np.empty((size, 3)), np.empty(size))  # fmt: skip
+
+    def first(self, k: int) -> Pairs:
+        """The first k pairs, copied."""
+        return Pairs(*(a[:k].copy() for a in self))
 
 
 #: pairs whose ramp slope (C3) is below this enter the residual only, not the Jacobian (a
 #: gap of more than ~50 eps / k: the Newton iteration converges the same, with fewer columns)
 SLOPE_MIN = 1e-4
 
-NO_PAIRS = Pairs(np.zeros((0, 4), np.int64), np.zeros((0, 4)), np.zeros((0, 3)),
-                 np.zeros((0, 3)), np.zeros(0))  # fmt: skip
+NO_PAIRS = Pairs.empty(0)
 
 
 @jit
-def _gather_kernel(p: LawParams, r, pairs, reach, tails, fixtures, nodes, sigma, normal, dist,
-                   weight):  # fmt: skip
-    """Fill the candidate pairs (module docstring) among segment pairs ``pairs`` and, with
-    ``fixtures``, the segments against the two axis pieces ``tails``: closer than
-    ``reach`` at the known level and farther apart along the rod than ``min_arc``.
-    Returns their number."""
+def _gather_kernel(p: LawParams, r, pairs, reach, tails, fixtures, out: Pairs):
+    """Fill ``out`` with the candidate pairs (module docstring) among segment pairs
+    ``pairs`` and, with ``fixtures``, the segments against the two axis pieces ``tails``:
+    closer than ``reach`` at the known level and farther apart along the rod than
+    ``min_arc``.  Returns their number."""
+    nodes, sigma, normal, dist, weight = out
     n_seg = r.shape[0] - 1
     k = 0
     for m in range(pairs.shape[0]):
@@ -165,15 +174,10 @@ def _gather_kernel(p: LawParams, r, pairs, reach, tails, fixtures, nodes, sigma,
 
 def _gather(p: LawParams, r, pairs, reach, tails, fixtures) -> Pairs:
     """The candidate pairs (:func:`_gather_kernel`) as :class:`Pairs`."""
-    size = pairs.shape[0] + (2 * (r.shape[0] - 1) if fixtures else 0)
-    nodes, sigma = np.empty((size, 4), np.int64), np.empty((size, 4))
-    normal, dist, weight = np.empty((size, 3)), np.empty((size, 3)), np.empty(size)
+    out = Pairs.empty(pairs.shape[0] + (2 * (r.shape[0] - 1) if fixtures else 0))
     k = _gather_kernel(p, r, np.ascontiguousarray(pairs, np.int64), float(reach), tails,
-                       bool(fixtures), nodes, sigma, normal, dist, weight)  # fmt: skip
-    if k == 0:
-        return NO_PAIRS
-    return Pairs(nodes[:k].copy(), sigma[:k].copy(), normal[:k].copy(), dist[:k].copy(),
-                 weight[:k].copy())  # fmt: skip
+                       bool(fixtures), out)  # fmt: skip
+    return NO_PAIRS if k == 0 else out.first(k)
 
 
 def candidates(p: LawParams, r: np.ndarray, V: np.ndarray, dt: float, fixtures: bool) -> Pairs:
@@ -203,9 +207,10 @@ def _ramp(x, eps):
 
 
 @jit
-def _forces(sp: StepParams, nodes, sigma, normal, dist, weight, V_old, V_new, f, slope):
+def _forces(sp: StepParams, pairs: Pairs, V_old, V_new, f, slope):
     """Nodal forces f (N+1, 3, inertial) of the pairs at the new velocities V_new, and each
     pair's slope ramp'(x) (C3).  Returns (largest overlap, energy, dashpot power)."""
+    nodes, sigma, normal, dist, weight = pairs
     k, c, D = sp.law.stiffness, sp.law.damping, sp.law.diameter
     eps = k * sp.smooth * D
     worst, energy, power = 0.0, 0.0, 0.0
@@ -263,8 +268,7 @@ def contact_source(sp: StepParams, pairs: Pairs, R_old, V_old, w_old, y_new, wei
     V_new = np.einsum("nji,nj->ni", R, y_new[:, 0:3])
     f = np.zeros((n1, 3))
     slope = np.zeros(pairs.nodes.shape[0])
-    worst, energy, power = _forces(sp, pairs.nodes, pairs.sigma, pairs.n, pairs.d, pairs.w,
-                                   V_old, V_new, f, slope)  # fmt: skip
+    worst, energy, power = _forces(sp, pairs, V_old, V_new, f, slope)
     q = np.zeros((n1, nf))
     q[:, 0:3] = -np.einsum("nij,nj->ni", R, f) / weights[:, None]
     on = slope > SLOPE_MIN
@@ -279,8 +283,7 @@ def contact_source(sp: StepParams, pairs: Pairs, R_old, V_old, w_old, y_new, wei
     stiff = sp.law.stiffness * sp.g_t * sp.dt + sp.law.damping
     turn = 0.5 * sp.dt * left_jacobian(-0.5 * sp.dt * (y_new[:, 3:6] + w_old))  # (C4)
     u = np.ascontiguousarray(y_new[:, 0:3])
-    _columns(sp, pairs.nodes, pairs.sigma, pairs.n, pairs.w, slope, stiff, R, u, turn, weights,
-             where, nbl, rscale, yscale, C)  # fmt: skip
+    _columns(sp, pairs, slope, stiff, R, u, turn, weights, where, nbl, rscale, yscale, C)
     _frame_columns(sp, nodes, np.ascontiguousarray(q[:, 0:3]), turn, nbl, rscale, yscale, C)
     cols = (nf * nodes[:, None] + np.arange(6)[None, :]).ravel()
     return Source(q, C, cols, worst, energy, power, int(on.sum()))
@@ -317,12 +320,13 @@ def _add_block(sp: StepParams, na, col, G, nbl, rscale, yscale, off, C):
 
 
 @jit
-def _columns(sp: StepParams, nodes, sigma, normal, weight, slope, stiff, R, u, turn, weights,
-             where, nbl, rscale, yscale, C):  # fmt: skip
+def _columns(sp: StepParams, pairs: Pairs, slope, stiff, R, u, turn, weights, where, nbl, rscale,
+             yscale, C):  # fmt: skip
     """The Jacobian columns C[6 m + y] (one row per column) of (C2, C4) on the velocities
     and spins of the nodes in contact (``where[b]`` = m), in the scaled rows and unknowns:
     dq_a / du_b = g R_a n (R_b n)^T, dq_a / dw_b = -g R_a n (R_b n x u_b)^T turn_b with
     g = w ramp' (k g_t dt + c) sigma_a sigma_b / w_a."""
+    nodes, sigma, normal, weight = pairs.nodes, pairs.sigma, pairs.n, pairs.w
     G = np.empty((3, 3))
     H = np.empty((3, 3))
     for p in range(nodes.shape[0]):

@@ -21,13 +21,11 @@ thread): the two cost the same at about 190, 300 and 400 columns for N = 100, 40
 
 from __future__ import annotations
 
-from functools import cache
-
 import numpy as np
-import scipy.sparse as sps
 import scipy.sparse.linalg as spla
 
 from ..._numba import jit
+from ...genalpha import abd as _abd
 from ...genalpha.discrete import solve_neg
 
 __all__ = ["contact_solve", "sparse_from", "sparse_solve", "woodbury_solve"]
@@ -65,36 +63,11 @@ def woodbury_solve(fac, r, C, cols, out) -> None:
     out[:, :] = (z - Z.T @ corr).reshape(out.shape)
 
 
-@cache
-def _pattern(n_cells: int, nf: int, nbl: int) -> tuple[np.ndarray, np.ndarray]:
-    """Row and column indices of the blocks (BL, A_j, B_j, BR) of J, in the order of
-    ``np.concatenate([BL.ravel(), AB.ravel(), BR.ravel()])`` with AB[j] = [A_j B_j]."""
-    f = np.arange(nf)
-    rows = [np.repeat(np.arange(nbl), nf)]
-    cols = [np.tile(f, nbl)]
-    j = np.arange(n_cells)[:, None, None]
-    rows.append(np.broadcast_to(nbl + nf * j + f[None, :, None], (n_cells, nf, 2 * nf)).ravel())
-    cols.append(np.broadcast_to(nf * j + np.arange(2 * nf)[None, None, :],
-                                (n_cells, nf, 2 * nf)).ravel())  # fmt: skip
-    rows.append(np.repeat(nbl + nf * n_cells + np.arange(nf - nbl), nf))
-    cols.append(nf * n_cells + np.tile(f, nf - nbl))
-    return np.concatenate(rows), np.concatenate(cols)
-
-
 def sparse_solve(left, A, B, right, r, C, cols, out) -> None:
     """out = -(J + C E^T)^{-1} r by a sparse LU of the whole matrix, J given by its scaled
     blocks (``Work.left``, ``Work.A``, ``Work.B``, ``Work.right``)."""
-    n_cells, nf, _ = A.shape
-    nbl = left.shape[0]
-    n = nf * (n_cells + 1)
-    rows, cs = _pattern(n_cells, nf, nbl)
-    data = [left.ravel(), np.concatenate([A, B], axis=2).ravel(), right.ravel()]
     ci, ri = np.nonzero(C)
-    J = sps.csc_matrix(
-        (np.concatenate(data + [C[ci, ri]]), (np.concatenate([rows, ri]),
-                                               np.concatenate([cs, cols[ci]]))),
-        shape=(n, n),
-    )  # fmt: skip
+    J = _abd.to_sparse(left, A, B, right, extra=(ri, cols[ci], C[ci, ri]))
     out[:, :] = -spla.splu(J).solve(r).reshape(out.shape)
 
 
