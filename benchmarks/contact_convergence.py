@@ -28,14 +28,13 @@ from __future__ import annotations
 
 import argparse
 import json
-from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 
 from dyntorsion.app.cli_rtol import result_json
 from dyntorsion.beyond.contact.run import Contact, ContactScene, run_contact_scene
 from dyntorsion.buckling.scene import Scene
 from dyntorsion.genalpha.scheme import Scheme
-from records import provenance, write
+from records import provenance, run_missing
 
 A, KAPPA0, DT, T_END = 16.0, 10.0, 0.01, 3.2
 GRIDS = [(50, 2.5e-4), (100, 2.5e-4), (200, 2.5e-4), (400, 2.5e-4), (800, 2.5e-4), (400, 1.25e-4),
@@ -75,37 +74,23 @@ def past_run(n: int, lam_t: float, t_end: float, route: str) -> dict:
     return {"n_cells": n, "lam_t": lam_t, "t_end": t_end, "route": route, "result": res}
 
 
+def report(part: str, args: tuple, row: dict) -> str:
+    res = row if part == "runs" else row["result"]
+    return (
+        f"{part} {args}: {str(res['stopped'])[:60]}, first contact "
+        f"{res['first_contact_t']} s ({res['wall_time']:.0f} s)"
+    )
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--jobs", type=int, default=1, help="runs at once (processes)")
     jobs = ap.parse_args(argv).jobs
     record = {"params": params(), "code": provenance(__file__, ROOTS), "runs": [], "past": []}
-    if OUT.exists():
-        old = json.loads(OUT.read_text())
-        if old.get("params") == record["params"] and old.get("code") == record["code"]:
-            record = old
-    done = {(r["n_cells"], r["max_step"]) for r in record["runs"]}
-    done |= {(r["n_cells"], r["lam_t"], r["t_end"], r["route"]) for r in record["past"]}
-    todo = [("runs", g) for g in GRIDS if g not in done]
-    todo += [("past", p) for p in PAST if p not in done]
-    order = {("runs", g): i for i, g in enumerate(GRIDS)} | {
-        ("past", p): i for i, p in enumerate(PAST)
-    }
-    todo.sort(key=lambda job: -job[1][0])  # the finest grids first: they take longest
-    with ProcessPoolExecutor(max_workers=max(1, jobs)) as pool:
-        futures = {pool.submit(grid_run if part == "runs" else past_run, *args): (part, args)
-                   for part, args in todo}  # fmt: skip
-        for fut in as_completed(futures):
-            part, args = futures[fut]
-            row = fut.result()
-            record[part].append(row)
-            key = (lambda r: (r["n_cells"], r["max_step"])) if part == "runs" else (
-                lambda r: (r["n_cells"], r["lam_t"], r["t_end"], r["route"]))  # fmt: skip
-            record[part].sort(key=lambda r: order[(part, key(r))])
-            write(OUT, record, indent=1)
-            res = row if part == "runs" else row["result"]
-            print(f"{part} {args}: {str(res['stopped'])[:60]}, first contact "
-                  f"{res['first_contact_t']} s ({res['wall_time']:.0f} s)", flush=True)  # fmt: skip
+    run_missing(OUT, record, {"runs": GRIDS, "past": PAST}, {"runs": grid_run, "past": past_run},
+                {"runs": lambda r: (r["n_cells"], r["max_step"]),
+                 "past": lambda r: (r["n_cells"], r["lam_t"], r["t_end"], r["route"])},
+                report, jobs, indent=1)  # fmt: skip
     return 0
 
 

@@ -13,7 +13,7 @@ checks within a second of the first contact: measured 2026-11-26, a = 1.6 to 18-
 the time route of the centreline turned by 2-5 rad from the shape of the 12 fields),
 N = 800 to 17.6 s and N = 1600 to 17.5 s, so that what the page shows can be told from the
 grid's error.  (N = 800 to 18.5 s had not finished after an hour of one core, 2026-11-26:
-the contact steps grow dearer as the loop coils; N = 1600 to 17.5 s took 18 minutes.)
+the contact steps grow dearer as the loop coils; each run's wall time is in the record.)
 
 Every run records, every ``Contact.check`` = 0.01 s: link, twist and writhe, contact sites,
 the deepest overlap, the twisting moment at s = 0; and the centreline at the times ``SHOTS``
@@ -21,8 +21,7 @@ the deepest overlap, the twisting moment at s = 0; and the centreline at the tim
 resumes when the parameters, this script and the code fingerprint of
 ``run_contact_scene`` are unchanged (else it starts again).
 
-Run: ``python benchmarks/fig07_continued.py [--jobs J]`` (each run's wall time is in the
-record).
+Run: ``python benchmarks/fig07_continued.py [--jobs J]``.
 """
 
 from __future__ import annotations
@@ -30,7 +29,6 @@ from __future__ import annotations
 import argparse
 import json
 import sys
-from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 
 import numpy as np
@@ -41,7 +39,7 @@ from dyntorsion.app.cli_rtol import result_json  # noqa: E402
 from dyntorsion.beyond.contact.run import Contact, ContactScene, run_contact_scene  # noqa: E402
 from dyntorsion.buckling.scene import Scene  # noqa: E402
 from dyntorsion.genalpha.scheme import Scheme  # noqa: E402
-from records import provenance, write  # noqa: E402
+from records import provenance, run_missing  # noqa: E402
 
 A, KAPPA0 = 1.6, 0.0
 #: the scene's step away from contact [s] (the substeps near it: Contact.max_step)
@@ -87,29 +85,28 @@ def one(n: int, lam_t: float, t_end: float) -> dict:
     }  # fmt: skip
 
 
+def report(part: str, args: tuple, row: dict) -> str:
+    res = row["result"]
+    return (f"N = {row['n_cells']}, lambda_t = {row['lam_t']:g}: {res['stopped'][:70]} at "
+            f"{res['t_last']} s; first contact {res['first_contact_t']}, link "
+            f"{res['link_turns']:.3f}, writhe {res['writhe_turns']:.3f}, sites "
+            f"{res['max_contact_sites']} ({res['wall_time']:.0f} s)")  # fmt: skip
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--jobs", type=int, default=1, help="runs at once (processes)")
     jobs = ap.parse_args(argv).jobs
     record = {"params": params(), "code": provenance(__file__, ROOTS), "runs": []}
-    if OUT.exists():
-        old = json.loads(OUT.read_text())
-        if old.get("params") == record["params"] and old.get("code") == record["code"]:
-            record = old
-    done = {(r["n_cells"], r["lam_t"], r["t_end"]) for r in record["runs"]}
-    todo = [run for run in RUNS if tuple(run) not in done]
-    with ProcessPoolExecutor(max_workers=max(1, jobs)) as pool:
-        futures = {pool.submit(one, *run): run for run in todo}
-        for fut in as_completed(futures):
-            n, lam, _ = futures[fut]
-            row = fut.result()
-            record["runs"].append(row)
-            write(OUT, record)
-            res = row["result"]
-            print(f"N = {n}, lambda_t = {lam:g}: {res['stopped'][:70]} at {res['t_last']} s; "
-                  f"first contact {res['first_contact_t']}, link {res['link_turns']:.3f}, "
-                  f"writhe {res['writhe_turns']:.3f}, sites {res['max_contact_sites']} "
-                  f"({res['wall_time']:.0f} s)", flush=True)  # fmt: skip
+    run_missing(
+        OUT,
+        record,
+        {"runs": RUNS},
+        {"runs": one},
+        {"runs": lambda r: (r["n_cells"], r["lam_t"], r["t_end"])},
+        report,
+        jobs,
+    )
     return 0
 
 

@@ -58,7 +58,6 @@ import argparse
 import json
 import math
 import sys
-from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
@@ -72,7 +71,7 @@ from dyntorsion.buckling.seed import Perturbation  # noqa: E402
 from dyntorsion.buckling.turning import TurnHold  # noqa: E402
 from dyntorsion.genalpha.scheme import Scheme  # noqa: E402
 from pyelastica_plectoneme import LENGTH, MASS, N_ELEM, RADIUS, SHEAR, T_HOLD, T_TWIST, TURNS, E  # noqa: E402
-from records import provenance, write  # noqa: E402
+from records import provenance, run_missing  # noqa: E402
 
 T_END = T_TWIST + T_HOLD
 TAU = 0.1
@@ -135,29 +134,28 @@ def one(n: int, dt: float) -> dict:
     }  # fmt: skip
 
 
+def report(part: str, args: tuple, row: dict) -> str:
+    res = row["result"]
+    return (f"N = {row['n_cells']}, dt = {row['dt']:g}: {res['stopped'][:60]} at "
+            f"{res['t_last']} s; link {res['link_turns']:.3f}, twist {res['twist_turns']:.3f}, "
+            f"writhe {res['writhe_turns']:.3f}, plectoneme {row['plectoneme']['turns']:.2f} "
+            f"turns ({res['wall_time']:.0f} s)")  # fmt: skip
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--jobs", type=int, default=1, help="runs at once (processes)")
     jobs = ap.parse_args(argv).jobs
     record = {"params": params(), "code": provenance(__file__, ROOTS), "runs": []}
-    if OUT.exists():
-        old = json.loads(OUT.read_text())
-        if old.get("params") == record["params"] and old.get("code") == record["code"]:
-            record = old
-    done = {(r["n_cells"], r["dt"]) for r in record["runs"]}
-    todo = [run for run in RUNS if tuple(run) not in done]
-    with ProcessPoolExecutor(max_workers=max(1, jobs)) as pool:
-        futures = {pool.submit(one, n, dt): (n, dt) for n, dt in todo}
-        for fut in as_completed(futures):
-            n, dt = futures[fut]
-            row = fut.result()
-            record["runs"].append(row)
-            write(OUT, record)
-            res = row["result"]
-            print(f"N = {n}, dt = {dt:g}: {res['stopped'][:60]} at {res['t_last']} s; link "
-                  f"{res['link_turns']:.3f}, twist {res['twist_turns']:.3f}, writhe "
-                  f"{res['writhe_turns']:.3f}, plectoneme {row['plectoneme']['turns']:.2f} turns "
-                  f"({res['wall_time']:.0f} s)", flush=True)  # fmt: skip
+    run_missing(
+        OUT,
+        record,
+        {"runs": RUNS},
+        {"runs": one},
+        {"runs": lambda r: (r["n_cells"], r["dt"])},
+        report,
+        jobs,
+    )
     return 0
 
 

@@ -56,7 +56,7 @@ from dyntorsion.buckling.seed import Perturbation
 from dyntorsion.buckling.statics import critical_twist
 from dyntorsion.buckling.turning import TurnHold
 from dyntorsion.genalpha.scheme import Scheme
-from records import provenance, write
+from records import provenance, resume, write
 
 RADIUS, E, LENGTH = 0.025, 1e6, 2.5
 TENSION = 5.0
@@ -150,10 +150,7 @@ def curve() -> dict:
 
 def main() -> int:
     record = {"params": params(), "code": provenance(__file__, ROOTS), "theory": theory()}
-    if OUT.exists():
-        old = json.loads(OUT.read_text())
-        if all(old.get(k) == record[k] for k in ("params", "code", "theory")):
-            record = old
+    record = resume(OUT, record, ("params", "code", "theory"))
     for name, part in (("bracket", lambda: bracket(record["theory"]["kappa_cri"])),
                        ("curve", curve)):  # fmt: skip
         if name in record:

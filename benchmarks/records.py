@@ -1,29 +1,26 @@
-"""What the benchmark scripts that write a record to ``data/bench`` share: the record's
-provenance (package version, the script's sha256, the code fingerprint of what computed
-it: ``tests/test_plectoneme_records.py`` checks both) and the atomic write (a temporary
-file in the same folder renamed over the record, so a run cut short loses nothing
-already written)."""
+"""What the benchmark scripts that write a record to ``data/`` share: the record's
+provenance (:func:`dyntorsion.store.fingerprint.script_provenance`: package version, the
+script's sha256, the roots of the code that computed it and their fingerprint, which
+:func:`~dyntorsion.store.fingerprint.why_stale` checks on the pages and in the tests), the
+atomic write (a temporary file in the same folder renamed over the record, so a run cut
+short loses nothing already written) and the resume-and-run loop of a record made of
+independent runs (runs already in a current record are kept; the rest run, finest grid
+first, each written as it ends)."""
 
 from __future__ import annotations
 
-import hashlib
 import json
 import os
 import tempfile
+from collections.abc import Callable, Mapping, Sequence
+from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 
-from dyntorsion import __version__
-from dyntorsion.store.fingerprint import code_fingerprint
+from dyntorsion.store.fingerprint import script_provenance
 
-__all__ = ["provenance", "write"]
+__all__ = ["provenance", "write", "resume", "run_missing"]
 
-
-def provenance(script: str | os.PathLike[str], roots: tuple[str, ...]) -> dict:
-    """The ``code`` part of a record written by ``script`` with the code reachable from
-    ``roots`` (:func:`dyntorsion.store.fingerprint.code_fingerprint`)."""
-    return {"dyntorsion": __version__,
-            "script_sha256": hashlib.sha256(Path(script).read_bytes()).hexdigest(),
-            "code_fingerprint": code_fingerprint(roots)}  # fmt: skip
+provenance = script_provenance
 
 
 def write(out: Path, record: dict, indent: int | None = None) -> None:
@@ -34,3 +31,46 @@ def write(out: Path, record: dict, indent: int | None = None) -> None:
     ) as f:
         json.dump(record, f, indent=indent)
     os.replace(f.name, out)
+
+
+def resume(out: Path, record: dict, keys: Sequence[str] = ("params", "code")) -> dict:
+    """The record at ``out`` if its ``keys`` equal ``record``'s (same parameters, script
+    and code: what it holds is what this run would compute), else ``record``."""
+    if out.exists():
+        old = json.loads(out.read_text())
+        if all(old.get(k) == record[k] for k in keys):
+            return old
+    return record
+
+
+def run_missing(
+    out: Path,
+    record: dict,
+    jobs: Mapping[str, Sequence[tuple]],
+    compute: Mapping[str, Callable[..., dict]],
+    key: Mapping[str, Callable[[dict], tuple]],
+    report: Callable[[str, tuple, dict], str],
+    processes: int = 1,
+    indent: int | None = None,
+) -> dict:
+    """Complete ``record`` (resumed from ``out``, :func:`resume`): for each part (a list
+    in the record) the runs ``jobs[part]`` (argument tuples, the first the number of
+    cells) not yet in it by ``key[part](row)``, each ``compute[part](*args)`` in one of
+    ``processes`` processes, the finest first.  Each finished run is put in its part in
+    the order of ``jobs`` and the record written; ``report(part, args, row)`` is printed."""
+    record = resume(out, record)
+    done = {(part, key[part](row)) for part in jobs for row in record[part]}
+    order = {(part, tuple(a)): i for part, runs in jobs.items() for i, a in enumerate(runs)}
+    todo = [(part, tuple(a)) for part, runs in jobs.items() for a in runs
+            if (part, tuple(a)) not in done]  # fmt: skip
+    todo.sort(key=lambda job: -job[1][0])
+    with ProcessPoolExecutor(max_workers=max(1, processes)) as pool:
+        futures = {pool.submit(compute[part], *args): (part, args) for part, args in todo}
+        for fut in as_completed(futures):
+            part, args = futures[fut]
+            row = fut.result()
+            record[part].append(row)
+            record[part].sort(key=lambda r, p=part: order[(p, key[p](r))])
+            write(out, record, indent)
+            print(report(part, args, row), flush=True)
+    return record

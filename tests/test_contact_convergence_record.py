@@ -3,7 +3,6 @@ issue 33 item 3): current, and saying what the "Past contact" page says of it.""
 
 from __future__ import annotations
 
-import hashlib
 import json
 import math
 from pathlib import Path
@@ -21,13 +20,10 @@ def record():
 
 
 def test_the_record_is_current_and_complete(record):
-    from dyntorsion.store.fingerprint import code_fingerprint
+    from dyntorsion.store.fingerprint import why_stale
 
-    assert record["code"]["script_sha256"] == hashlib.sha256(SCRIPT.read_bytes()).hexdigest()
-    roots = ("dyntorsion.beyond.contact.run:run_contact_scene",)  # the script's ROOTS
-    assert record["code"]["code_fingerprint"] == code_fingerprint(roots), (
-        "the contact code changed since the record: rerun benchmarks/contact_convergence.py"
-    )
+    stale = why_stale(record["code"], SCRIPT)
+    assert stale is None, stale
     grids = {(r["n_cells"], r["max_step"]) for r in record["runs"]}
     assert grids == {tuple(g) for g in record["params"]["grids"]}
     assert {(p["n_cells"], p["lam_t"], p["t_end"], p["route"]) for p in record["past"]} == {

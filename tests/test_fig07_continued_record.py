@@ -4,7 +4,6 @@ saying what the Fig 7 page says of it."""
 
 from __future__ import annotations
 
-import hashlib
 import json
 from pathlib import Path
 
@@ -12,19 +11,15 @@ import numpy as np
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-ROOTS = ("dyntorsion.beyond.contact.run:run_contact_scene",)
 
 
 @pytest.fixture(scope="module")
 def record() -> dict:
-    from dyntorsion.store.fingerprint import code_fingerprint
+    from dyntorsion.store.fingerprint import why_stale
 
     rec = json.loads((ROOT / "data" / "contact" / "fig07_continued.json").read_text())
-    sha = hashlib.sha256((ROOT / "benchmarks" / "fig07_continued.py").read_bytes()).hexdigest()
-    assert rec["code"]["script_sha256"] == sha, "the script changed: rerun it"
-    assert rec["code"]["code_fingerprint"] == code_fingerprint(ROOTS), (
-        "the code changed since the record: rerun benchmarks/fig07_continued.py"
-    )
+    stale = why_stale(rec["code"], ROOT / "benchmarks" / "fig07_continued.py")
+    assert stale is None, stale
     return rec
 
 

@@ -281,3 +281,33 @@ def test_every_registered_kind_is_a_record_kind_of_the_studies():
 def test_an_unregistered_kind_is_refused_with_the_fix():
     with pytest.raises(LookupError, match="register_kind"):
         F.code_of("nobody-registered-this")
+
+
+def test_a_script_record_is_stale_when_its_script_or_its_code_changes(tmp_path, monkeypatch):
+    """``script_provenance`` written, ``why_stale`` read back: current as written; stale
+    (with the reason) when the script is edited, when the fingerprint differs from what
+    the roots reach today, and when the record predates the roots."""
+    import dyntorsion
+
+    script = tmp_path / "bench.py"
+    script.write_text("print(1)\n")
+    roots = ("dyntorsion.buckling:simulate",)
+    code = F.script_provenance(script, roots)
+    assert code["roots"] == list(roots) and code["dyntorsion"] == dyntorsion.__version__
+    assert code["code_fingerprint"] == F.code_fingerprint(roots)
+    assert F.why_stale(code, script) is None
+    script.write_text("print(2)\n")
+    assert "bench.py changed" in F.why_stale(code, script)
+    script.write_text("print(1)\n")
+    then = dict(code, code_fingerprint="0" * 16)
+    reason = F.why_stale(then, script)
+    assert "dyntorsion.buckling:simulate changed" in reason and "0" * 16 in reason
+    old = {k: v for k, v in code.items() if k != "roots"}
+    assert "no roots" in F.why_stale(old, script)
+    helper = tmp_path / "scene.py"
+    helper.write_text("X = 1\n")
+    code = F.script_provenance(script, roots, (helper,))
+    assert code["imports_sha256"] == {"scene.py": F._sha256(helper)}
+    assert F.why_stale(code, script) is None
+    helper.write_text("X = 2\n")
+    assert "scene.py, which bench.py imports, changed" in F.why_stale(code, script)

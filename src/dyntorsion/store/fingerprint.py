@@ -21,9 +21,11 @@ import ast
 import hashlib
 import importlib
 import inspect
+import os
 import textwrap
 from collections.abc import Mapping
 from functools import cache
+from pathlib import Path
 from typing import Any
 
 __all__ = [
@@ -33,6 +35,8 @@ __all__ = [
     "code_fingerprint",
     "fingerprint_of",
     "code_of",
+    "script_provenance",
+    "why_stale",
 ]
 
 #: where the computation of each record kind starts (``module:object`` or a whole
@@ -236,3 +240,47 @@ def code_of(kind: str | None) -> str:
             "registers the package's record kinds, or call register_kind for your own"
         )
     return code_fingerprint(KIND_ROOTS[kind])
+
+
+def _sha256(path: str | os.PathLike[str]) -> str:
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+
+
+def script_provenance(
+    script: str | os.PathLike[str],
+    roots: tuple[str, ...],
+    imports: tuple[str | os.PathLike[str], ...] = (),
+) -> dict:
+    """The ``code`` part of a record that a script (a benchmark writing to ``data/``)
+    computes with the package's code reachable from ``roots``: the package version, the
+    script's sha256 and those of the sibling scripts it ``imports`` (by file name), the
+    roots and their :func:`code_fingerprint`.  :func:`why_stale` reads it back."""
+    from .._version import __version__
+
+    out = {"dyntorsion": __version__, "script_sha256": _sha256(script),
+           "roots": list(roots), "code_fingerprint": code_fingerprint(tuple(roots))}  # fmt: skip
+    if imports:
+        out["imports_sha256"] = {Path(p).name: _sha256(p) for p in imports}
+    return out
+
+
+def why_stale(code: Mapping[str, Any], script: str | os.PathLike[str]) -> str | None:
+    """Why a record whose ``code`` part is :func:`script_provenance`'s is no longer what
+    ``script`` and today's package would compute (the script or a script it imports
+    edited, or code reachable from the record's roots changed), or None if it is current."""
+    name = Path(script).name
+    if "roots" not in code or "script_sha256" not in code:
+        return f"the record carries no roots or script hash: rerun {name}"
+    if code["script_sha256"] != _sha256(script):
+        return f"{name} changed since the record was written: rerun it"
+    for other, sha in code.get("imports_sha256", {}).items():
+        path = Path(script).with_name(other)
+        if not path.exists() or _sha256(path) != sha:
+            return f"{other}, which {name} imports, changed since the record: rerun {name}"
+    now = code_fingerprint(tuple(code["roots"]))
+    if code.get("code_fingerprint") != now:
+        return (
+            f"the code reachable from {', '.join(code['roots'])} changed since the record "
+            f"(fingerprint {code.get('code_fingerprint')} then, {now} now): rerun {name}"
+        )
+    return None
