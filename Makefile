@@ -4,7 +4,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 PY     := $(BIN)/python
 
-.PHONY: test test-all paper docs data bench lint clean distclean site-check release-check
+.PHONY: test test-all paper docs data bench bench-matched lint clean distclean site-check release-check
 
 $(PY):
 	$(PYTHON) -m venv $(VENV)
@@ -97,6 +97,17 @@ bench: $(VENV)/.test-installed
 	$(PY) benchmarks/bench_scenes.py
 	OPENBLAS_NUM_THREADS=1 $(PY) benchmarks/bench_contact.py
 	$(PY) benchmarks/bench_targets.py
+	$(PY) benchmarks/plectoneme_matched.py --print
+
+$(VENV)/.bench-installed: pyproject.toml | $(PY)
+	$(PY) -m pip install --quiet -e '.[test,bench]'
+	touch $@
+
+## bench-matched: PyElastica's plectoneme scene in both codes on a ladder of grids, timed in
+## one run on one core (about 40 minutes); writes data/bench/plectoneme_matched.json, which
+## `make bench` prints
+bench-matched: $(VENV)/.bench-installed
+	OPENBLAS_NUM_THREADS=1 $(PY) benchmarks/plectoneme_matched.py
 
 clean:
 	rm -rf docs/_build docs/jupyter_execute paper/figures .pytest_cache

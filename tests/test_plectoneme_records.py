@@ -5,7 +5,6 @@ saying what the "Past contact" page says of them."""
 
 from __future__ import annotations
 
-import hashlib
 import json
 from pathlib import Path
 
@@ -13,25 +12,20 @@ import numpy as np
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-ROOTS = ("dyntorsion.beyond.contact.run:run_contact_scene",)
 
 
-def _load(name: str, script: str, roots=ROOTS) -> dict:
-    from dyntorsion.store.fingerprint import code_fingerprint
+def _load(name: str, script: str) -> dict:
+    from dyntorsion.store.fingerprint import why_stale
 
     record = json.loads((ROOT / "data" / "bench" / name).read_text())
-    sha = hashlib.sha256((ROOT / "benchmarks" / script).read_bytes()).hexdigest()
-    assert record["code"]["script_sha256"] == sha, f"{name}: the script changed, rerun {script}"
-    assert record["code"]["code_fingerprint"] == code_fingerprint(roots), (
-        f"{name}: the code changed since the record, rerun benchmarks/{script}"
-    )
+    stale = why_stale(record["code"], ROOT / "benchmarks" / script)
+    assert stale is None, f"{name}: {stale}"
     return record
 
 
 @pytest.fixture(scope="module")
 def tension():
-    roots = ("dyntorsion.beyond.contact.run:run_contact_scene", "dyntorsion.buckling:simulate")
-    return _load("plectoneme_tension.json", "plectoneme_tension.py", roots)
+    return _load("plectoneme_tension.json", "plectoneme_tension.py")
 
 
 def test_the_static_critical_torque_is_bracketed_by_the_dynamic_rod(tension):
@@ -148,3 +142,62 @@ def test_the_torque_rotation_curve_rises_jumps_and_levels_above_the_ply_theory(t
     assert out["stopped"] == "t_end" and out["max_penetration_over_D"] < 0.01
     assert abs(out["energy_residual"]) < 0.02 and out["max_link_gap_turns"] < 0.2
     assert 1.0 < abs(out["plectoneme_turns"]) < 2.0
+
+
+@pytest.fixture(scope="module")
+def matched():
+    return _load("plectoneme_matched.json", "plectoneme_matched.py")
+
+
+def test_the_matched_ladders_are_complete_and_reproduce_the_long_runs(matched, side):
+    """Every rung of both ladders ran in one invocation of the script, the finest rungs to
+    t*; the finest rungs repeat the long records' runs of the same grids to t* (same scene,
+    same code: dyntorsion's N = 200 at dt = 0.02 s and PyElastica's example, to 1e-9 turns)."""
+    p = matched["params"]
+    assert sorted(r["n"] for r in matched["dyntorsion"]) == sorted(p["dyntorsion_cells"])
+    assert sorted(r["n"] for r in matched["pyelastica"]) == sorted(p["pyelastica_elements"])
+    rows = matched["dyntorsion"] + matched["pyelastica"]
+    assert len({r["invocation"] for r in rows}) == 1
+    t_star = p["t_star"]
+    for r in rows:
+        assert r["stopped"] != "t_end" or abs(r["t_last"] - t_star) < 1e-6
+    dyn = max(matched["dyntorsion"], key=lambda r: r["n"])
+    pe = max(matched["pyelastica"], key=lambda r: r["n"])
+    assert dyn["stopped"] == pe["stopped"] == "t_end"
+    long = next(
+        r for r in side["runs"] if (r["n_cells"], r["dt"]) == (dyn["n"], p["dyntorsion_dt"])
+    )
+    t = np.asarray(long["history"]["t"])
+    i = int(np.argmin(np.abs(t - t_star)))
+    assert abs(t[i] - t_star) < 1e-9
+    assert abs(long["history"]["writhe_turns"][i] - dyn["writhe"]) < 1e-9
+    pe_ref = json.loads((ROOT / "data" / "bench" / "pyelastica_plectoneme.json").read_text())
+    assert pe["n"] == pe_ref["params"]["n_elem"]
+    t = np.asarray(pe_ref["result"]["t"])
+    i = int(np.argmin(np.abs(t - t_star)))
+    assert abs(t[i] - t_star) < 1e-6
+    assert abs(pe_ref["result"]["writhe_turns"][i] - pe["writhe"]) < 1e-9
+
+
+def test_the_matched_analysis_is_the_record_s_runs_extrapolated(matched):
+    """The limits in the record's analysis are Richardson's on the three finest rungs that
+    reached t*; dyntorsion's writhe converges faster than first order, PyElastica's at about
+    first order (as the page says), and every rung's error against the limit falls with n."""
+    from dyntorsion.verification import richardson
+
+    a = matched["analysis"]
+    orders = {}
+    for code in ("dyntorsion", "pyelastica"):
+        rows = sorted((r for r in matched[code] if r["stopped"] == "t_end"), key=lambda r: r["n"])
+        value, order = richardson([1 / r["n"] for r in rows], [r["writhe"] for r in rows])
+        lim = a["codes"][code]["limit"]["writhe"]
+        assert lim["value"] == pytest.approx(value, abs=1e-12)
+        assert lim["order"] == pytest.approx(order, abs=1e-9)
+        orders[code] = order
+        err = [r["writhe_error"] for r in a["codes"][code]["rungs"]]
+        assert err == sorted(err, reverse=True), (code, err)
+    assert 1.2 < orders["dyntorsion"] < 3.0 and 0.7 < orders["pyelastica"] < 1.3, orders
+    for pair in a["pairs"]:
+        d, p = pair["dyntorsion"], pair["pyelastica"]
+        assert d is not None and d["writhe_error"] <= p["writhe_error"]
+        assert pair["ratio"] == pytest.approx(p["wall"] / d["wall"])

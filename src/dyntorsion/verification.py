@@ -122,3 +122,34 @@ def observed_orders(h, err) -> np.ndarray:
     """log2-type rates between successive levels of a ladder h (any ratio)."""
     h, err = np.asarray(h, float), np.asarray(err, float)
     return np.log(err[:-1] / err[1:]) / np.log(h[:-1] / h[1:])
+
+
+def richardson(h, values) -> tuple[float, float] | None:
+    """The limit h -> 0 and the observed order p of ``values`` on a ladder of steps ``h``
+    (any ratios, any order), from its three finest levels: v(h) = v0 + C h^p through them.
+    None when the two differences do not shrink in one direction (no order to observe) or
+    need an order outside [1/4, 8]."""
+    h, v = np.asarray(h, float), np.asarray(values, float)
+    if h.size < 3 or h.size != v.size:
+        raise ValueError(
+            f"richardson needs at least three levels of h and values (got {h.size}, {v.size})"
+        )
+    order = np.argsort(h)[:3][::-1]
+    (h1, h2, h3), (v1, v2, v3) = h[order], v[order]
+    if not (h1 > h2 > h3 > 0):
+        raise ValueError(f"richardson needs three distinct positive steps (got {h1}, {h2}, {h3})")
+    if v2 == v3 or (v1 - v2) / (v2 - v3) <= 0:
+        return None
+    target = (v1 - v2) / (v2 - v3)
+
+    def ratio(p: float) -> float:  # increasing in p for h1 > h2 > h3
+        return (h1**p - h2**p) / (h2**p - h3**p)
+
+    lo, hi = 0.25, 8.0
+    if not ratio(lo) <= target <= ratio(hi):
+        return None
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if ratio(mid) < target else (lo, mid)
+    p = 0.5 * (lo + hi)
+    return float(v3 - (v2 - v3) * h3**p / (h2**p - h3**p)), float(p)
