@@ -70,3 +70,14 @@ def test_info_names_the_version_and_the_store(capsys, monkeypatch, tmp_path):
     out = capsys.readouterr().out
     assert dyntorsion.__version__ in out
     assert f"{tmp_path} (DYNTORSION_DATA is set)" in out
+
+
+def test_info_names_the_arithmetic_the_contact_runs_depend_on(capsys):
+    from dyntorsion.store.environment import numerical_environment
+
+    assert main(["info"]) == 0
+    out = capsys.readouterr().out
+    env = numerical_environment()
+    assert f"numpy, scipy      {env['numpy']}, {env['scipy']}" in out
+    for lib, kernels in env["blas_kernels"].items():
+        assert f"{kernels} ({lib})" in out

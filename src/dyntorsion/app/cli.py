@@ -314,9 +314,12 @@ def _info(args: argparse.Namespace) -> int:
     import numba
 
     from .. import __file__ as package_file
+    from ..store.environment import numerical_environment
     from ..store.location import store_origin
 
     store, why = store_origin()
+    env = numerical_environment()
+    kernels = ", ".join(f"{k} ({lib})" for lib, k in env["blas_kernels"].items()) or "not OpenBLAS"
     rows = {
         "dyntorsion": __version__,
         "package": str(Path(package_file).parent),
@@ -325,6 +328,10 @@ def _info(args: argparse.Namespace) -> int:
         or "beside the package's modules (__pycache__)",
         "python": f"{platform.python_version()} ({sys.executable})",
         "numba": numba.__version__,
+        "numpy, scipy": f"{env['numpy']}, {env['scipy']}",
+        # the runs past contact depend on these in the last bit (dyntorsion.store.environment)
+        "openblas kernels": kernels,
+        "numpy loops": " ".join(env["numpy_simd"]) or "baseline only",
     }
     width = max(map(len, rows))
     for key, val in rows.items():
@@ -352,7 +359,7 @@ def parser() -> argparse.ArgumentParser:
     sub = p.add_subparsers(dest="command", required=True)
 
     sub.add_parser(
-        "info", help="version, the default store and why, python and numba"
+        "info", help="version, the default store and why, python, numba and the arithmetic"
     ).set_defaults(func=_info)
 
     b = sub.add_parser("buckle", help="one buckling scene: print t_c and kappa3")

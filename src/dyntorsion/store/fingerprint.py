@@ -254,13 +254,19 @@ def script_provenance(
     """The ``code`` part of a record that a script (a benchmark writing to ``data/``)
     computes with the package's code reachable from ``roots``: the package version, the
     script's sha256 and those of the sibling scripts it ``imports`` (by file name), the
-    roots and their :func:`code_fingerprint`.  :func:`why_stale` reads it back."""
+    roots and their :func:`code_fingerprint`, and the numerical environment
+    (:func:`dyntorsion.store.environment.numerical_environment`: a resumed record is
+    completed only in the environment it was begun in).  :func:`why_stale` reads it back;
+    the environment does not make a record stale (the same code gives the same numbers
+    to round-off in any of them)."""
     from .._version import __version__
+    from .environment import numerical_environment
 
     out = {"dyntorsion": __version__, "script_sha256": _sha256(script),
            "roots": list(roots), "code_fingerprint": code_fingerprint(tuple(roots))}  # fmt: skip
     if imports:
         out["imports_sha256"] = {Path(p).name: _sha256(p) for p in imports}
+    out["environment"] = numerical_environment()
     return out
 
 
