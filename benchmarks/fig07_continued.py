@@ -26,7 +26,6 @@ Run: ``python benchmarks/fig07_continued.py [--jobs J]``.
 
 from __future__ import annotations
 
-import argparse
 import json
 import sys
 from pathlib import Path
@@ -39,7 +38,7 @@ from dyntorsion.app.cli_rtol import result_json  # noqa: E402
 from dyntorsion.beyond.contact.run import Contact, ContactScene, run_contact_scene  # noqa: E402
 from dyntorsion.buckling.scene import Scene  # noqa: E402
 from dyntorsion.genalpha.scheme import Scheme  # noqa: E402
-from records import provenance, run_missing  # noqa: E402
+from records import provenance, run_script, summary  # noqa: E402
 
 A, KAPPA0 = 1.6, 0.0
 #: the scene's step away from contact [s] (the substeps near it: Contact.max_step)
@@ -85,29 +84,17 @@ def one(n: int, lam_t: float, t_end: float) -> dict:
     }  # fmt: skip
 
 
-def report(part: str, args: tuple, row: dict) -> str:
+def report(row: dict) -> str:
     res = row["result"]
-    return (f"N = {row['n_cells']}, lambda_t = {row['lam_t']:g}: {res['stopped'][:70]} at "
-            f"{res['t_last']} s; first contact {res['first_contact_t']}, link "
-            f"{res['link_turns']:.3f}, writhe {res['writhe_turns']:.3f}, sites "
-            f"{res['max_contact_sites']} ({res['wall_time']:.0f} s)")  # fmt: skip
+    return summary(f"N = {row['n_cells']}, lambda_t = {row['lam_t']:g}", res,
+                   first_contact=f"{res['first_contact_t']}", link=f"{res['link_turns']:.3f}",
+                   writhe=f"{res['writhe_turns']:.3f}", sites=f"{res['max_contact_sites']}")  # fmt: skip
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--jobs", type=int, default=1, help="runs at once (processes)")
-    jobs = ap.parse_args(argv).jobs
     record = {"params": params(), "code": provenance(__file__, ROOTS), "runs": []}
-    run_missing(
-        OUT,
-        record,
-        {"runs": RUNS},
-        {"runs": one},
-        {"runs": lambda r: (r["n_cells"], r["lam_t"], r["t_end"])},
-        report,
-        jobs,
-    )
-    return 0
+    return run_script(argv, __doc__, OUT, record, RUNS, one,
+                      lambda r: (r["n_cells"], r["lam_t"], r["t_end"]), report)  # fmt: skip
 
 
 if __name__ == "__main__":

@@ -9,6 +9,7 @@ first, each written as it ends)."""
 
 from __future__ import annotations
 
+import argparse
 import json
 import os
 import tempfile
@@ -18,7 +19,7 @@ from pathlib import Path
 
 from dyntorsion.store.fingerprint import script_provenance
 
-__all__ = ["provenance", "write", "resume", "run_missing"]
+__all__ = ["provenance", "write", "resume", "run_missing", "run_script", "summary"]
 
 provenance = script_provenance
 
@@ -35,12 +36,33 @@ def write(out: Path, record: dict, indent: int | None = None) -> None:
 
 def resume(out: Path, record: dict, keys: Sequence[str] = ("params", "code")) -> dict:
     """The record at ``out`` if its ``keys`` equal ``record``'s (same parameters, script
-    and code: what it holds is what this run would compute), else ``record``."""
+    and code: what it holds is what this run would compute), else ``record``.  The
+    ``code`` parts are compared with their numerical environment
+    (:func:`dyntorsion.store.environment.numerical_environment`) where the record on disk
+    has one: runs made with other kernels are not mixed into it (a record written before
+    the environment was kept is resumed on the code alone)."""
     if out.exists():
         old = json.loads(out.read_text())
-        if all(old.get(k) == record[k] for k in keys):
+        if all(_same(k, old.get(k), record[k]) for k in keys):
             return old
+        was = (old.get("code") or {}).get("environment")
+        if was is not None and all(
+            _same(k, old.get(k), record[k], environment=False) for k in keys
+        ):
+            print(f"{out.name}: begun in another numerical environment "
+                  f"({was}); starting over", flush=True)  # fmt: skip
     return record
+
+
+def _same(key: str, old, new, environment: bool = True) -> bool:
+    """Whether the ``key`` parts of two records agree (module docstring)."""
+    if key != "code" or not isinstance(old, dict) or not isinstance(new, dict):
+        return old == new
+    if environment and "environment" in old:
+        return old == new
+    return {k: v for k, v in old.items() if k != "environment"} == {
+        k: v for k, v in new.items() if k != "environment"
+    }
 
 
 def run_missing(
@@ -74,3 +96,31 @@ def run_missing(
             write(out, record, indent)
             print(report(part, args, row), flush=True)
     return record
+
+
+def summary(grid: str, res: Mapping, **numbers: str) -> str:
+    """One printed line for a finished run past contact: its grid, how and when it ended,
+    the ``numbers`` (label: formatted value) and its wall time."""
+    said = ", ".join(f"{label.replace('_', ' ')} {value}" for label, value in numbers.items())
+    return f"{grid}: {res['stopped'][:70]} at {res['t_last']} s; {said} ({res['wall_time']:.0f} s)"
+
+
+def run_script(
+    argv: Sequence[str] | None,
+    doc: str,
+    out: Path,
+    record: dict,
+    runs: Sequence[tuple],
+    compute: Callable[..., dict],
+    key: Callable[[dict], tuple],
+    report: Callable[[dict], str],
+) -> int:
+    """The command line of a script whose record is one list of runs (``record["runs"]``):
+    ``--jobs J`` runs at once, the missing ones computed by :func:`run_missing`,
+    ``report(row)`` printed as each ends."""
+    ap = argparse.ArgumentParser(description=doc.splitlines()[0])
+    ap.add_argument("--jobs", type=int, default=1, help="runs at once (processes)")
+    processes = ap.parse_args(argv).jobs
+    run_missing(out, record, {"runs": runs}, {"runs": compute}, {"runs": key},
+                lambda part, args, row: report(row), processes)  # fmt: skip
+    return 0
