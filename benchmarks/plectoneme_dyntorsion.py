@@ -54,7 +54,6 @@ core; each run's wall time is in the record).
 
 from __future__ import annotations
 
-import argparse
 import json
 import math
 import sys
@@ -71,7 +70,7 @@ from dyntorsion.buckling.seed import Perturbation  # noqa: E402
 from dyntorsion.buckling.turning import TurnHold  # noqa: E402
 from dyntorsion.genalpha.scheme import Scheme  # noqa: E402
 from pyelastica_plectoneme import LENGTH, MASS, N_ELEM, RADIUS, SHEAR, T_HOLD, T_TWIST, TURNS, E  # noqa: E402
-from records import provenance, run_missing  # noqa: E402
+from records import provenance, run_script, summary  # noqa: E402
 
 T_END = T_TWIST + T_HOLD
 TAU = 0.1
@@ -134,29 +133,18 @@ def one(n: int, dt: float) -> dict:
     }  # fmt: skip
 
 
-def report(part: str, args: tuple, row: dict) -> str:
+def report(row: dict) -> str:
     res = row["result"]
-    return (f"N = {row['n_cells']}, dt = {row['dt']:g}: {res['stopped'][:60]} at "
-            f"{res['t_last']} s; link {res['link_turns']:.3f}, twist {res['twist_turns']:.3f}, "
-            f"writhe {res['writhe_turns']:.3f}, plectoneme {row['plectoneme']['turns']:.2f} "
-            f"turns ({res['wall_time']:.0f} s)")  # fmt: skip
+    return summary(f"N = {row['n_cells']}, dt = {row['dt']:g}", res,
+                   link=f"{res['link_turns']:.3f}", twist=f"{res['twist_turns']:.3f}",
+                   writhe=f"{res['writhe_turns']:.3f}",
+                   plectoneme=f"{row['plectoneme']['turns']:.2f} turns")  # fmt: skip
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--jobs", type=int, default=1, help="runs at once (processes)")
-    jobs = ap.parse_args(argv).jobs
     record = {"params": params(), "code": provenance(__file__, ROOTS), "runs": []}
-    run_missing(
-        OUT,
-        record,
-        {"runs": RUNS},
-        {"runs": one},
-        {"runs": lambda r: (r["n_cells"], r["dt"])},
-        report,
-        jobs,
-    )
-    return 0
+    return run_script(argv, __doc__, OUT, record, RUNS, one,
+                      lambda r: (r["n_cells"], r["dt"]), report)  # fmt: skip
 
 
 if __name__ == "__main__":
