@@ -38,7 +38,7 @@ invocation (``invocation``).  Written atomically after every run; a rerun resume
 parameters, this script and the code fingerprint are unchanged.
 
 Run: ``python benchmarks/plectoneme_matched.py`` (needs PyElastica: ``pip install -e
-'.[bench]'``; about 40 minutes on one core), ``--print`` to print the recorded table.
+'.[bench]'``; one core: the record keeps each run's wall time), ``--print`` to print the recorded table.
 """
 
 from __future__ import annotations
