@@ -4,7 +4,23 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 PY     := $(BIN)/python
 
-.PHONY: test test-all paper docs data bench bench-matched lint clean distclean site-check release-check
+# The runs past self-contact call OpenBLAS and NumPy loops whose rounding differs in the
+# last bit from one processor family to another (dyntorsion.store.environment); the
+# committed records were computed with OpenBLAS's Haswell kernels and NumPy's AVX2 loops,
+# asked for here wherever the processor has AVX2, so that reruns reproduce them bit for bit
+ifneq ($(shell grep -m1 -ow avx2 /proc/cpuinfo 2>/dev/null),)
+ifeq ($(origin OPENBLAS_CORETYPE),undefined)
+export OPENBLAS_CORETYPE := Haswell
+endif
+ifeq ($(origin NPY_DISABLE_CPU_FEATURES),undefined)
+NPY_AVX512 := $(shell test -x $(PY) && $(PY) -c "import numpy as np; core = getattr(np, '_core', None) or np.core; print(' '.join(f for f in core._multiarray_umath.__cpu_dispatch__ if f.startswith(('X86_V4', 'AVX512'))))" 2>/dev/null)
+ifneq ($(NPY_AVX512),)
+export NPY_DISABLE_CPU_FEATURES := $(NPY_AVX512)
+endif
+endif
+endif
+
+.PHONY: test test-all paper docs data bench bench-matched roundoff lint clean distclean site-check release-check
 
 $(PY):
 	$(PYTHON) -m venv $(VENV)
@@ -104,10 +120,15 @@ $(VENV)/.bench-installed: pyproject.toml | $(PY)
 	touch $@
 
 ## bench-matched: PyElastica's plectoneme scene in both codes on a ladder of grids, timed in
-## one run on one core (about 40 minutes); writes data/bench/plectoneme_matched.json, which
+## one run on one core (the record keeps each run's wall time); writes data/bench/plectoneme_matched.json, which
 ## `make bench` prints
 bench-matched: $(VENV)/.bench-installed
 	OPENBLAS_NUM_THREADS=1 $(PY) benchmarks/plectoneme_matched.py
+
+## roundoff: runs of the contact records repeated with other arithmetic (OpenBLAS's and
+## NumPy's own choice of kernels, a seed perturbed by 1e-10) -> data/contact/roundoff.json
+roundoff: $(VENV)/.bench-installed
+	$(PY) benchmarks/contact_roundoff.py --jobs 2
 
 clean:
 	rm -rf docs/_build docs/jupyter_execute paper/figures .pytest_cache
