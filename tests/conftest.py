@@ -33,6 +33,26 @@ def _strict_floating_point():
     np.seterr(**old)
 
 
+@pytest.fixture(scope="session")
+def current_record():
+    """``load(record, script)``: the committed record ``data/<record>`` written by
+    ``benchmarks/<script>``, asserted current (``why_stale`` says why not)."""
+    import json
+    from pathlib import Path
+
+    from dyntorsion.store.fingerprint import why_stale
+
+    root = Path(__file__).resolve().parents[1]
+
+    def load(record: str, script: str) -> dict:
+        rec = json.loads((root / "data" / record).read_text())
+        stale = why_stale(rec["code"], root / "benchmarks" / script)
+        assert stale is None, f"data/{record}: {stale}"
+        return rec
+
+    return load
+
+
 @pytest.fixture
 def rng():
     return np.random.default_rng(20261121)

@@ -3,27 +3,17 @@ issue 33 item 3): current, and saying what the "Past contact" page says of it.""
 
 from __future__ import annotations
 
-import json
 import math
-from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parents[1]
-RECORD = ROOT / "data" / "contact" / "first_contact.json"
-SCRIPT = ROOT / "benchmarks" / "contact_convergence.py"
-
 
 @pytest.fixture(scope="module")
-def record():
-    return json.loads(RECORD.read_text())
+def record(current_record):
+    return current_record("contact/first_contact.json", "contact_convergence.py")
 
 
-def test_the_record_is_current_and_complete(record):
-    from dyntorsion.store.fingerprint import why_stale
-
-    stale = why_stale(record["code"], SCRIPT)
-    assert stale is None, stale
+def test_the_record_is_complete(record):
     grids = {(r["n_cells"], r["max_step"]) for r in record["runs"]}
     assert grids == {tuple(g) for g in record["params"]["grids"]}
     assert {(p["n_cells"], p["lam_t"], p["t_end"], p["route"]) for p in record["past"]} == {

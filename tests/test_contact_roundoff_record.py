@@ -4,7 +4,6 @@ runs the committed records bit for bit, and saying what the Past contact page sa
 
 from __future__ import annotations
 
-import json
 import sys
 from pathlib import Path
 
@@ -16,13 +15,8 @@ import contact_roundoff as CR  # noqa: E402
 
 
 @pytest.fixture(scope="module")
-def record() -> dict:
-    from dyntorsion.store.fingerprint import why_stale
-
-    rec = json.loads((ROOT / "data" / "contact" / "roundoff.json").read_text())
-    stale = why_stale(rec["code"], ROOT / "benchmarks" / "contact_roundoff.py")
-    assert stale is None, stale
-    return rec
+def record(current_record) -> dict:
+    return current_record("contact/roundoff.json", "contact_roundoff.py")
 
 
 def test_every_run_is_there_in_every_variant(record):

@@ -14,13 +14,8 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 @pytest.fixture(scope="module")
-def record() -> dict:
-    from dyntorsion.store.fingerprint import why_stale
-
-    rec = json.loads((ROOT / "data" / "contact" / "fig07_continued.json").read_text())
-    stale = why_stale(rec["code"], ROOT / "benchmarks" / "fig07_continued.py")
-    assert stale is None, stale
-    return rec
+def record(current_record) -> dict:
+    return current_record("contact/fig07_continued.json", "fig07_continued.py")
 
 
 def _runs(record) -> dict[int, dict]:

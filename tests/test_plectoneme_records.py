@@ -14,18 +14,9 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def _load(name: str, script: str) -> dict:
-    from dyntorsion.store.fingerprint import why_stale
-
-    record = json.loads((ROOT / "data" / "bench" / name).read_text())
-    stale = why_stale(record["code"], ROOT / "benchmarks" / script)
-    assert stale is None, f"{name}: {stale}"
-    return record
-
-
 @pytest.fixture(scope="module")
-def tension():
-    return _load("plectoneme_tension.json", "plectoneme_tension.py")
+def tension(current_record):
+    return current_record("bench/plectoneme_tension.json", "plectoneme_tension.py")
 
 
 def test_the_static_critical_torque_is_bracketed_by_the_dynamic_rod(tension):
@@ -55,8 +46,8 @@ def test_the_theory_numbers_are_the_package_s(tension):
 
 
 @pytest.fixture(scope="module")
-def side():
-    return _load("dyntorsion_plectoneme.json", "plectoneme_dyntorsion.py")
+def side(current_record):
+    return current_record("bench/dyntorsion_plectoneme.json", "plectoneme_dyntorsion.py")
 
 
 def test_the_side_by_side_runs_follow_pyelastica_until_its_passage(side):
@@ -145,8 +136,8 @@ def test_the_torque_rotation_curve_rises_jumps_and_levels_above_the_ply_theory(t
 
 
 @pytest.fixture(scope="module")
-def matched():
-    return _load("plectoneme_matched.json", "plectoneme_matched.py")
+def matched(current_record):
+    return current_record("bench/plectoneme_matched.json", "plectoneme_matched.py")
 
 
 def test_the_matched_ladders_are_complete_and_reproduce_the_long_runs(matched, side):
