@@ -1,8 +1,8 @@
 """The numerical environment a record was computed in: the versions of the libraries whose
 arithmetic enters it and the OpenBLAS kernels of this machine.
 
-The buckling scenes run in the package's compiled kernels and give the same bits on any
-x86-64 machine.  The runs past self-contact also call LAPACK and OpenBLAS (the contact
+The buckling scenes march in the package's compiled kernels (the Fig 8 scene on the quick
+grid gave the same bits with either choice of kernels below).  The runs past self-contact also call LAPACK and OpenBLAS (the contact
 step's linear solves, the frames' products), whose kernels OpenBLAS picks at start-up by
 the processor (``Haswell`` on AVX2 machines, ``SkylakeX`` or ``Cooperlake`` with AVX-512,
 ...), and NumPy's loops, which it dispatches to AVX2 or AVX-512 code the same way.  Their
