@@ -8,6 +8,8 @@ PY     := $(BIN)/python
 # last bit from one processor family to another (dyntorsion.store.environment); the
 # committed records were computed with OpenBLAS's Haswell kernels and NumPy's AVX2 loops,
 # asked for here wherever the processor has AVX2, so that reruns reproduce them bit for bit
+# (NumPy's AVX-512 groups are asked of the venv's NumPy: the make that creates the venv pins
+# OpenBLAS only; every record keeps the environment it was computed in)
 ifneq ($(shell grep -m1 -ow avx2 /proc/cpuinfo 2>/dev/null),)
 ifeq ($(origin OPENBLAS_CORETYPE),undefined)
 export OPENBLAS_CORETYPE := Haswell
