@@ -15,7 +15,7 @@ ifeq ($(origin OPENBLAS_CORETYPE),undefined)
 export OPENBLAS_CORETYPE := Haswell
 endif
 ifeq ($(origin NPY_DISABLE_CPU_FEATURES),undefined)
-NPY_AVX512 := $(shell test -x $(PY) && $(PY) -c "import numpy as np; core = getattr(np, '_core', None) or np.core; print(' '.join(f for f in core._multiarray_umath.__cpu_dispatch__ if f.startswith(('X86_V4', 'AVX512'))))" 2>/dev/null)
+NPY_AVX512 := $(shell test -x $(PY) && $(PY) -c "from dyntorsion.store.environment import numpy_avx512_groups as g; print(g())" 2>/dev/null)
 ifneq ($(NPY_AVX512),)
 export NPY_DISABLE_CPU_FEATURES := $(NPY_AVX512)
 endif

@@ -12,6 +12,7 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "benchmarks"))
 import contact_roundoff as CR  # noqa: E402
+from dyntorsion.store.environment import avx512  # noqa: E402
 
 
 @pytest.fixture(scope="module")
@@ -35,7 +36,7 @@ def test_the_pinned_runs_repeat_the_committed_records_bit_for_bit(record):
 def test_each_variant_ran_with_the_arithmetic_it_names(record):
     for row in record["runs"]:
         env = row["environment"]
-        wide = [f for f in env["numpy_simd"] if f.startswith(("X86_V4", "AVX512"))]
+        wide = avx512(env["numpy_simd"])
         if row["variant"] in ("pinned", "seed"):
             assert set(env["blas_kernels"].values()) == {"Haswell"} and not wide
         else:  # native: only run where the machine's own choice differs

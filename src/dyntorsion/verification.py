@@ -12,6 +12,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.optimize import brentq
 
 from . import genalpha as ga
 from .model.cosserat import Cosserat
@@ -148,8 +149,5 @@ def richardson(h, values) -> tuple[float, float] | None:
     lo, hi = 0.25, 8.0
     if not ratio(lo) <= target <= ratio(hi):
         return None
-    for _ in range(200):
-        mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if ratio(mid) < target else (lo, mid)
-    p = 0.5 * (lo + hi)
+    p = brentq(lambda q: ratio(q) - target, lo, hi, xtol=1e-14)
     return float(v3 - (v2 - v3) * h3**p / (h2**p - h3**p)), float(p)

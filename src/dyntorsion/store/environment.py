@@ -23,7 +23,7 @@ import platform
 from importlib import metadata
 from pathlib import Path
 
-__all__ = ["numerical_environment", "numpy_simd", "blas_kernels"]
+__all__ = ["numerical_environment", "numpy_simd", "avx512", "numpy_avx512_groups", "blas_kernels"]
 
 #: the libraries whose arithmetic enters a record
 LIBRARIES = ("numpy", "scipy", "numba", "llvmlite")
@@ -74,6 +74,22 @@ def numpy_simd() -> list[str]:
     umath = _umath()
     features = getattr(umath, "__cpu_features__", {})
     return [f for f in getattr(umath, "__cpu_dispatch__", []) if features.get(f, False)]
+
+
+#: the names NumPy gives its AVX-512 dispatch groups (``X86_V4``, ``AVX512_ICL``, ... from
+#: NumPy 2.4; ``AVX512F``, ``AVX512_SKX``, ... before)
+AVX512_PREFIXES = ("X86_V4", "AVX512")
+
+
+def avx512(features) -> list[str]:
+    """Those of NumPy's SIMD ``features`` that use AVX-512."""
+    return [f for f in features if f.startswith(AVX512_PREFIXES)]
+
+
+def numpy_avx512_groups() -> str:
+    """NumPy's AVX-512 dispatch groups, space-separated: what ``NPY_DISABLE_CPU_FEATURES``
+    names to keep its loops on AVX2 (the Makefile's pin)."""
+    return " ".join(avx512(getattr(_umath(), "__cpu_dispatch__", [])))
 
 
 def _umath():
