@@ -22,7 +22,7 @@ endif
 endif
 endif
 
-.PHONY: test test-all paper docs data bench bench-matched roundoff lint clean distclean site-check release-check
+.PHONY: test test-all paper docs data bench bench-matched bench-bounds roundoff lint clean distclean site-check release-check
 
 $(PY):
 	$(PYTHON) -m venv $(VENV)
@@ -126,6 +126,11 @@ $(VENV)/.bench-installed: pyproject.toml | $(PY)
 ## `make bench` prints
 bench-matched: $(VENV)/.bench-installed
 	OPENBLAS_NUM_THREADS=1 $(PY) benchmarks/plectoneme_matched.py
+
+## bench-bounds: PyElastica's plectoneme scene in dyntorsion on 400 and 500 cells with a
+## stiffer contact, against issue 33's overlap and link bounds -> data/bench/plectoneme_bounds.json
+bench-bounds: $(VENV)/.bench-installed
+	$(PY) benchmarks/plectoneme_bounds.py --jobs 2
 
 ## roundoff: runs of the contact records repeated with other arithmetic (OpenBLAS's and
 ## NumPy's own choice of kernels, a seed perturbed by 1e-10) -> data/contact/roundoff.json

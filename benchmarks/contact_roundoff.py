@@ -26,6 +26,8 @@ import sys
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
+from dyntorsion.store.environment import cpu_has_avx512, numpy_avx512_groups
+
 HERE = Path(__file__).resolve().parent
 OUT = HERE.parent / "data" / "contact" / "roundoff.json"
 ROOTS = ("dyntorsion.beyond.contact.run:run_contact_scene",)
@@ -45,30 +47,14 @@ QUANTITIES = ("first_contact_t", "first_self_contact_t", "max_penetration_over_D
               "writhe_turns", "max_contact_sites", "steps", "t_last")  # fmt: skip
 
 
-def _avx512() -> bool:
-    try:
-        return " avx512f " in f" {Path('/proc/cpuinfo').read_text()} ".replace("\n", " ")
-    except OSError:
-        return False
-
-
 def variants() -> dict[str, dict[str, str]]:
     """The environment variables of each variant (module docstring)."""
-    pinned = {"OPENBLAS_CORETYPE": "Haswell", "NPY_DISABLE_CPU_FEATURES": _npy_avx512()}
+    pinned = {"OPENBLAS_CORETYPE": "Haswell", "NPY_DISABLE_CPU_FEATURES": numpy_avx512_groups()}
     out = {"pinned": pinned}
-    if _avx512():
+    if cpu_has_avx512():
         out["native"] = {"OPENBLAS_CORETYPE": "", "NPY_DISABLE_CPU_FEATURES": ""}
     out["seed"] = pinned | {"ROUNDOFF_SEED_FACTOR": repr(SEED_FACTOR)}
     return out
-
-
-def _npy_avx512() -> str:
-    code = ("import numpy as np; core = getattr(np, '_core', None) or np.core; "
-            "print(' '.join(f for f in core._multiarray_umath.__cpu_dispatch__ "
-            "if f.startswith(('X86_V4', 'AVX512'))))")  # fmt: skip
-    env = {k: v for k, v in os.environ.items() if k != "NPY_DISABLE_CPU_FEATURES"}
-    return subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
-                          text=True, check=True).stdout.strip()  # fmt: skip
 
 
 def one(name: str) -> dict:

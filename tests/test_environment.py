@@ -41,6 +41,18 @@ def test_the_environment_names_the_versions_installed():
     assert isinstance(env["numpy_simd"], list) and isinstance(env["blas_kernels"], dict)
 
 
+@pytest.mark.skipif(not Path("/proc/cpuinfo").exists(), reason="no /proc/cpuinfo to compare with")
+def test_avx512_is_the_processors_even_with_numpys_loops_kept_off_it():
+    """cpu_has_avx512 (whether contact_roundoff.py runs its native variant) says what the
+    kernel's flags say, in a child with NumPy's AVX-512 loops off and in one without."""
+    code = "from dyntorsion.store.environment import cpu_has_avx512 as c; print(c())"
+    for env in ({}, {"NPY_DISABLE_CPU_FEATURES": E.numpy_avx512_groups()}):
+        full = {k: v for k, v in os.environ.items() if k != "NPY_DISABLE_CPU_FEATURES"} | env
+        out = subprocess.run([sys.executable, "-c", code], env=full, capture_output=True,
+                             text=True, check=True).stdout.strip()  # fmt: skip
+        assert out == str(_cpu_has("avx512f")), env
+
+
 @pytest.mark.skipif(not _cpu_has("avx2"), reason="OpenBLAS's Haswell kernels need AVX2")
 def test_the_kernels_asked_for_are_the_kernels_reported():
     """What ``make`` sets (OPENBLAS_CORETYPE=Haswell, NumPy's AVX-512 loops off) is what a

@@ -23,7 +23,14 @@ import platform
 from importlib import metadata
 from pathlib import Path
 
-__all__ = ["numerical_environment", "numpy_simd", "avx512", "numpy_avx512_groups", "blas_kernels"]
+__all__ = [
+    "numerical_environment",
+    "numpy_simd",
+    "avx512",
+    "numpy_avx512_groups",
+    "cpu_has_avx512",
+    "blas_kernels",
+]
 
 #: the libraries whose arithmetic enters a record
 LIBRARIES = ("numpy", "scipy", "numba", "llvmlite")
@@ -90,6 +97,12 @@ def numpy_avx512_groups() -> str:
     """NumPy's AVX-512 dispatch groups, space-separated: what ``NPY_DISABLE_CPU_FEATURES``
     names to keep its loops on AVX2 (the Makefile's pin)."""
     return " ".join(avx512(getattr(_umath(), "__cpu_dispatch__", [])))
+
+
+def cpu_has_avx512() -> bool:
+    """Whether the processor has AVX-512 (its foundation, AVX512F), as NumPy detected it at
+    start-up: true even where ``NPY_DISABLE_CPU_FEATURES`` keeps NumPy's loops off it."""
+    return bool(getattr(_umath(), "__cpu_features__", {}).get("AVX512F", False))
 
 
 def _umath():
