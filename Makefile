@@ -22,7 +22,7 @@ endif
 endif
 endif
 
-.PHONY: test test-all paper docs data bench bench-matched bench-bounds roundoff lint clean distclean site-check release-check
+.PHONY: test test-all paper docs data bench bench-matched bench-bounds bench-plateau roundoff lint clean distclean site-check release-check
 
 $(PY):
 	$(PYTHON) -m venv $(VENV)
@@ -131,6 +131,11 @@ bench-matched: $(VENV)/.bench-installed
 ## stiffer contact, against issue 33's overlap and link bounds -> data/bench/plectoneme_bounds.json
 bench-bounds: $(VENV)/.bench-installed
 	$(PY) benchmarks/plectoneme_bounds.py --jobs 2
+
+## bench-plateau: slow twisting under tension on a 4 m rod into a plectoneme several turns
+## long (the torque plateau against the two-ply theory) -> data/bench/plectoneme_plateau.json
+bench-plateau: $(VENV)/.bench-installed
+	$(PY) benchmarks/plectoneme_plateau.py
 
 ## roundoff: runs of the contact records repeated with other arithmetic (OpenBLAS's and
 ## NumPy's own choice of kernels, a seed perturbed by 1e-10) -> data/contact/roundoff.json
