@@ -1,6 +1,6 @@
-"""The torque plateau of a plectoneme several turns long (issue 33, item 3): slow twisting
-under tension on a rod 1.6 times as long as ``benchmarks/plectoneme_tension.py``'s, written to
-``data/bench/plectoneme_plateau.json``.
+"""Does the torque of a longer ply level off at the two-ply plateau? (issue 33, item 3): slow
+twisting under tension on a rod 1.6 times as long as ``benchmarks/plectoneme_tension.py``'s,
+written to ``data/bench/plectoneme_plateau.json``.
 
 The section, material, tension, damping, contact and seed of ``plectoneme_tension.py``
 (imported from there: one place for them; the ply theory's eps = a sqrt(T / B) = 0.1), on
@@ -8,18 +8,26 @@ a rod ``LENGTH`` = 4 m long (L sqrt(T / B) = 16) with cells of the same length
 (``N_CELLS`` = 160, 0.5 D), turned at the same rate (0.05 turns/s) by ``TURNS`` = 11 turns,
 about 7 past the static critical rotation, and held.  (Not longer: the package's
 Greenhill determinant, ``statics.greenhill_clamped``, scans the critical moment up to
-40 B / L only, which a clamped rod more than about 19 tension lengths long exceeds.)  On the 2.5 m rod the plectoneme is
-little more than a turn long when the turning stops, and the torque over the first turn
-after the jump lies 1.22 times above the two-ply plateau (``plectoneme_tension.json``);
-here the ply grows over several turns, so the plateau can be read where the plectoneme's
-two ends (its loop and where it leaves the straight rod) are a small part of it.
+40 B / L only, which a clamped rod more than about 19 tension lengths long exceeds.)  On
+the 2.5 m rod the plectoneme is little more than a turn long when the turning stops, and
+the torque over the first turn after the jump lies 1.22 times above the two-ply plateau
+(``plectoneme_tension.json``); the question here is whether a longer ply levels off at the
+theory's torque.
+
+Measured (2026-11-27, this record; the Past contact page reads it): no.  The jump itself
+puts most of the rod into the ply (the far end pulled in from 3.96 to 1.69 m within 5 s,
+1.19 plectoneme turns), and while Lk - Tw - Wr stays within 0.05 turns (to 118.5 s) the
+torque rises from 0.73 to 0.97 N m, 1.2 to 1.6 times the plateau, as the ply grows to
+1.8 turns.  Past that the ply uses up the rod (the far end at 0.27 m at the end), the
+0.5 D cells do not hold the compact ply and the run fails the issue's checks (Lk - Tw - Wr
+0.85 turns, energy residual 41 %).  A plateau needs a rod many tension lengths longer.
 
 Every 0.1 s: the twisting moment at s = 0, link, twist, writhe, contact sites, the
 overlap, the far end's axial position and the plectoneme turns of the centreline.
 Written atomically when the run ends; a record whose parameters, script, the script it
 imports or code fingerprint differ from today's is stale.
 
-Run: ``python benchmarks/plectoneme_plateau.py`` (about half an hour of one core).
+Run: ``python benchmarks/plectoneme_plateau.py`` (26 min here beside two other runs).
 """
 
 from __future__ import annotations
