@@ -117,7 +117,12 @@ def greenhill_clamped(B: float, L: float, tension: float = 0.0, digits: int = 40
     T = 0: eq (31), M = 2 pi B m_cri / L.  Otherwise the smallest M > 0 at which
     det[w(0), w'(0), w(L), w'(L)] of w = c1 + c2 s + c3 e^{l+ s} + c4 e^{l- s},
     l+- = (i M +- d)/(2B), d = sqrt(4 B T - M^2), vanishes.  The determinant times
-    e^{-i M L/(2B)}/d is real, so its first sign change brackets the root (mpmath)."""
+    e^{-i M L/(2B)}/d is real, so its first sign change brackets the root (mpmath).
+
+    The scan runs over 0.05 B/L <= M <= 40 B/L: under a tension that makes the rod more than
+    about 19 tension lengths long (L sqrt(T/B) >~ 19, where M L / B passes 40) it finds no
+    root and raises ``ValueError`` (a 5 m rod of PyElastica's section under 5 N does; known
+    limitation, to be lifted by scanning up to a bound that grows with L sqrt(T/B))."""
     if tension == 0.0:
         return 2 * math.pi * B * m_cri / L
     with mpmath.workdps(digits):
