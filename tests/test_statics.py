@@ -46,8 +46,11 @@ def test_greenhill_clamped_root_solves_its_determinant(T):
         assert abs(mpmath.det(A)) / scale < 1e-12
 
 
-@pytest.mark.xfail(strict=True, raises=ValueError,
-                   reason="greenhill_clamped scans M <= 40 B/L only (known limitation)")
+@pytest.mark.xfail(
+    strict=True,
+    raises=ValueError,
+    reason="greenhill_clamped scans M <= 40 B/L only (known limitation)",
+)
 def test_greenhill_clamped_under_a_tension_of_more_than_19_tension_lengths():
     """A clamped rod L sqrt(T/B) = 20 long (M L/B near 2 * 20 > 40) has its critical moment
     just above Greenhill's infinite-rod 2 sqrt(B T); the scan does not reach it yet.  Found
