@@ -27,6 +27,7 @@ __all__ = [
     "classify_onset",
     "first_peak",
     "detect_onset",
+    "continuous_window_fit",
 ]
 
 #: the default onset window: the straight line through the samples of |u3(L, t)| between
@@ -47,7 +48,9 @@ def reference_level(rod: Rod) -> float:
 
 @dataclass(frozen=True)
 class Onset:
-    """Critical time and twist from the linear fit of u3(L, t) (section 6)."""
+    """Critical time and twist from the linear fit of u3(L, t) (section 6); the same
+    window read in continuous time (:func:`continuous_window_fit`) in ``t_c_continuous``
+    and ``kappa3_continuous`` (nan where the rise holds too few samples for it)."""
 
     t_c: float
     kappa3: float
@@ -59,6 +62,8 @@ class Onset:
     variations: dict[tuple[float, float], float]
     t_ref: float = math.nan
     u_ref: float = math.nan
+    t_c_continuous: float = math.nan
+    kappa3_continuous: float = math.nan
 
 
 def check_window(window, variations=()) -> None:
@@ -129,6 +134,110 @@ def least_squares_line(t: np.ndarray, u: np.ndarray) -> tuple[float, float]:
     dt, du = np.asarray(t) - t_mean, np.asarray(u) - u_mean
     slope = math.fsum(dt * du) / math.fsum(dt * dt)
     return slope, u_mean - slope * t_mean
+
+
+def _cubic(t: np.ndarray, y: np.ndarray, k: int):
+    """The cubic through the samples k-1 .. k+2 (Lagrange), as a function of time: the
+    interpolant of the interval [t_k, t_k+1] (local, so the same on every machine)."""
+    ts, ys = t[k - 1 : k + 3], y[k - 1 : k + 3]
+
+    def f(x):
+        x = np.asarray(x, dtype=float)
+        out = np.zeros_like(x)
+        for i in range(4):
+            w = np.ones_like(x)
+            for j in range(4):
+                if j != i:
+                    w = w * (x - ts[j]) / (ts[i] - ts[j])
+            out = out + ys[i] * w
+        return out
+
+    return f
+
+
+def _crossing(f, level: float, a: float, b: float) -> float:
+    """The time in [a, b] where the cubic f reaches ``level`` (bisection to round-off)."""
+    fa = float(f(a)) - level
+    for _ in range(200):
+        m = 0.5 * (a + b)
+        if m <= a or m >= b:
+            break
+        fm = float(f(m)) - level
+        if (fm >= 0) == (fa >= 0):
+            a, fa = m, fm
+        else:
+            b = m
+    return 0.5 * (a + b)
+
+
+def _maximum(f, a: float, b: float) -> float:
+    """The largest value of the cubic piece f on [a, b]: a scan of 64 subintervals, then
+    golden-section refinement around the best point (to round-off)."""
+    x = np.linspace(a, b, 65)
+    j = int(np.argmax(f(x)))
+    lo, hi = x[max(j - 1, 0)], x[min(j + 1, 64)]
+    g = 0.5 * (math.sqrt(5.0) - 1.0)
+    for _ in range(80):
+        c, d = hi - g * (hi - lo), lo + g * (hi - lo)
+        if float(f(c)) >= float(f(d)):
+            hi = d
+        else:
+            lo = c
+    return max(float(f(0.5 * (lo + hi))), float(f(x[j])))
+
+
+_NODES, _WEIGHTS = np.polynomial.legendre.leggauss(4)
+#: Gauss-Legendre nodes and weights on [0, 1], exact for the quartic t y(t) of a cubic piece
+_GL_X, _GL_W = 0.5 * (_NODES + 1.0), 0.5 * _WEIGHTS
+
+
+def continuous_window_fit(
+    t: np.ndarray, y: np.ndarray, i_peak: int, lo: float, hi: float
+) -> tuple[float, float]:
+    """(t_c, slope) of the window rule read in continuous time: ``y`` (the signed
+    ``u3(L, t)``, rising to its first peak at sample ``i_peak``) interpolated by piecewise
+    cubics through each interval's four neighbouring samples; the peak is the largest
+    value of the cubics of the two intervals beside the sample peak, the window's ends the
+    times where the interpolant first reaches ``lo`` and ``hi`` of it, and the line the
+    least squares fit to the interpolant over that interval, an integral (Gauss-Legendre,
+    exact on each cubic piece, sums correctly rounded), extrapolated to y = 0.  The sample
+    rule (:func:`detect_onset`) takes the samples whose values lie in the window, so its
+    ends move by up to a step and t_c by a fraction of one: first order in dt, and a
+    jump whenever a sample enters or leaves; this reading moves continuously with the
+    samples and inherits the scheme's order.  Raises ``ValueError`` where the rise holds
+    too few samples for the cubics (two beyond each end of the window)."""
+    n = t.size
+    if np.any(np.diff(t) <= 0):
+        raise ValueError("the sample times must increase")
+    if not 2 <= i_peak <= n - 2:
+        raise ValueError("the first peak lies too close to an end of the record for cubics")
+    pieces = [k for k in (i_peak - 1, i_peak) if k <= n - 3]
+    peak = max(float(y[i_peak]), *(_maximum(_cubic(t, y, k), t[k], t[k + 1]) for k in pieces))
+    ends = []
+    for frac in (lo, hi):
+        level = frac * peak
+        j = int(np.argmax(y[: i_peak + 1] >= level))
+        if j < 2 or j > n - 2:
+            raise ValueError(
+                f"the window's end at {frac:g} of the peak is too close to the record's start"
+            )
+        ends.append(_crossing(_cubic(t, y, j - 1), level, t[j - 1], t[j]))
+    t0, t1 = ends
+    if not t1 > t0:
+        raise ValueError("the continuous window is empty")
+    knots = [t0, *(x for x in t if t0 < x < t1), t1]
+    W, T, Y = [], [], []
+    for a, b in zip(knots[:-1], knots[1:], strict=True):
+        k = min(max(int(np.searchsorted(t, a, side="right")) - 1, 1), n - 3)
+        x = a + (b - a) * _GL_X
+        W.extend((b - a) * _GL_W)
+        T.extend(x)
+        Y.extend(_cubic(t, y, k)(x))
+    W, T, Y = np.asarray(W), np.asarray(T), np.asarray(Y)
+    w = math.fsum(W)
+    t_mean, y_mean = math.fsum(W * T) / w, math.fsum(W * Y) / w
+    slope = math.fsum(W * (T - t_mean) * (Y - y_mean)) / math.fsum(W * (T - t_mean) ** 2)
+    return t_mean - y_mean / slope, slope
 
 
 def detect_onset(
@@ -203,10 +312,17 @@ def detect_onset(
     var = {tuple(v): fit(*v)[0] for v in variations}
     unc = max((abs(v - t_c) for v in var.values()), default=0.0)
     a = run.params.get("a")
-    if a is not None and run.history is None:
-        kappa3 = run.params["kappa0"] + a * t_c
-    else:
-        kappa3 = run.end_twist(t_c)
+
+    def twist(time: float) -> float:
+        if a is not None and run.history is None:
+            return run.params["kappa0"] + a * time
+        return float(run.end_twist(time))
+
+    kappa3 = twist(t_c)
+    try:
+        t_cont = continuous_window_fit(t, sign * u, i_peak, *window)[0]
+    except (ValueError, FloatingPointError, ZeroDivisionError):
+        t_cont = math.nan
     if a is not None:
         unc_k = abs(a) * unc
     else:
@@ -222,4 +338,6 @@ def detect_onset(
         variations={k: float(v) for k, v in var.items()},
         t_ref=t_ref,
         u_ref=float(u_ref),
+        t_c_continuous=float(t_cont),
+        kappa3_continuous=twist(t_cont) if math.isfinite(t_cont) else math.nan,
     )

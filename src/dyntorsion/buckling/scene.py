@@ -371,11 +371,17 @@ def run_scene(scene: Scene) -> dict[str, Any]:
             uncertainty_t=None,
             uncertainty_kappa3=None,
             t_ref=None,
+            t_c_continuous=None,
+            kappa3_continuous=None,
         )
         if out["status"] == "no-onset":
             out.update(_unresolved(scene, run, kc))
         return out
     status = classify_onset(run, onset, kc)
+    continuous = {
+        "t_c_continuous": onset.t_c_continuous,
+        "kappa3_continuous": onset.kappa3_continuous,
+    }
     passes = "t = 0" if kc is None else f"the end twist passes kappa_cri = {kc:.4g} 1/m"
     forced = (
         f"forced: the onset (t_c = {onset.t_c:.4g} s, end twist {onset.kappa3:.4g} 1/m) comes "
@@ -392,5 +398,6 @@ def run_scene(scene: Scene) -> dict[str, Any]:
         intercept=onset.intercept,
         t_ref=onset.t_ref,
         u_ref=onset.u_ref,
+        **{k: v if math.isfinite(v) else None for k, v in continuous.items()},
     )
     return out
