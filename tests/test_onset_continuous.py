@@ -91,6 +91,16 @@ def test_a_straight_rise_gives_its_start_exactly():
     assert onset.t_c_continuous == pytest.approx(6.0, abs=1e-12)
 
 
+def test_a_record_that_ends_at_its_largest_sample_keeps_it_as_the_peak():
+    """A run stopped at self-contact while |u3(L)| still rises: the last sample is the
+    peak, as for the sample rule, and a straight rise still gives its start."""
+    t = np.linspace(0, 8, 801)
+    U = np.where(t > 6.0, 0.5 * (t - 6.0), 0.0)
+    for end in (len(t), len(t) - 1):
+        onset = detect_onset(_run(t[:end], -U[:end]), u_ref=0.05)
+        assert onset.t_c_continuous == pytest.approx(6.0, abs=1e-12)
+
+
 def test_too_few_samples_leave_the_continuous_reading_out_and_say_why():
     t = np.linspace(0.0, 4.0, 5)
     y = np.array([0.0, 0.2, 1.0, 0.5, 0.1])

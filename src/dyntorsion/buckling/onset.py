@@ -198,21 +198,23 @@ def continuous_window_fit(
     ``u3(L, t)``, rising to its first peak at sample ``i_peak``) interpolated by piecewise
     cubics through each interval's four neighbouring samples; the peak is the largest
     value of the cubics of the two intervals beside the sample peak, the window's ends the
-    times where the interpolant first reaches ``lo`` and ``hi`` of it, and the line the
+    times where the interpolant first reaches ``lo`` and ``hi`` of it (a record that ends
+    at or just after its largest sample, at self-contact, keeps that sample as the peak, as
+    the sample rule does), and the line the
     least squares fit to the interpolant over that interval, an integral (Gauss-Legendre,
     exact on each cubic piece, sums correctly rounded), extrapolated to y = 0.  The sample
     rule (:func:`detect_onset`) takes the samples whose values lie in the window, so its
     ends move by up to a step and t_c by a fraction of one: first order in dt, and a
     jump whenever a sample enters or leaves; this reading moves continuously with the
     samples and inherits the scheme's order.  Raises ``ValueError`` where the rise holds
-    too few samples for the cubics (two beyond each end of the window)."""
+    too few samples for the cubics (two before the window)."""
     n = t.size
     if np.any(np.diff(t) <= 0):
         raise ValueError("the sample times must increase")
-    if not 2 <= i_peak <= n - 2:
-        raise ValueError("the first peak lies too close to an end of the record for cubics")
-    pieces = [k for k in (i_peak - 1, i_peak) if k <= n - 3]
-    peak = max(float(y[i_peak]), *(_maximum(_cubic(t, y, k), t[k], t[k + 1]) for k in pieces))
+    if not 2 <= i_peak <= n - 1:
+        raise ValueError("the first peak lies too close to the record's start for cubics")
+    pieces = [k for k in (i_peak - 1, i_peak) if k <= n - 3]  # none where the record ends at it
+    peak = max([float(y[i_peak]), *(_maximum(_cubic(t, y, k), t[k], t[k + 1]) for k in pieces)])
     ends = []
     for frac in (lo, hi):
         level = frac * peak

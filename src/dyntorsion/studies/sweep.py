@@ -58,6 +58,8 @@ def _row(scene: Scene, record: dict[str, Any], cached: bool) -> dict[str, Any]:
         "t_ref": res.get("t_ref"),
         "uncertainty_t": res["uncertainty_t"],
         "uncertainty_kappa3": res["uncertainty_kappa3"],
+        "t_c_continuous": res.get("t_c_continuous"),
+        "kappa3_continuous": res.get("kappa3_continuous"),
         "onset_error": res.get("onset_error"),
         "stopped": res["stopped"],
         "steps": res["steps"],

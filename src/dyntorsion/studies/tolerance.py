@@ -69,6 +69,7 @@ from .sweep import run_sweep
 
 __all__ = [
     "CELLS",
+    "READINGS",
     "RUNG_NAMES",
     "ToleranceOnset",
     "check_rtol",
@@ -87,6 +88,22 @@ RUNG_NAMES: dict[int, str] = {25: "coarse", 50: "quick", 100: "standard", 200: "
 VOUCHED = 200
 #: steps to the paced onset time on the N = 25 rung (the pacing's 384 at N = 100)
 COARSE_STEPS = STEPS * CELLS[0] // 100
+
+
+#: the readings of the onset a ladder can be judged on: the paper's window rule on the
+#: samples (``t_c``, ``kappa3``) or the same window read in continuous time
+#: (:func:`~dyntorsion.buckling.onset.continuous_window_fit`), each the record's fields
+READINGS: dict[str, tuple[str, str]] = {
+    "samples": ("t_c", "kappa3"),
+    "continuous": ("t_c_continuous", "kappa3_continuous"),
+}
+
+
+def check_reading(reading: Any) -> tuple[str, str]:
+    """The record fields of ``reading`` (:data:`READINGS`), else a ValueError naming it."""
+    if reading not in READINGS:
+        raise ValueError(f"reading={reading!r}; allowed: {', '.join(map(repr, READINGS))}")
+    return READINGS[reading]
 
 
 def check_rtol(rtol: Any) -> float:
@@ -169,6 +186,7 @@ class ToleranceOnset:
     paced_by: str
     note: str = ""
     grids: tuple[dict[str, Any], ...] = field(default_factory=tuple)
+    reading: str = "samples"
 
     def as_dict(self) -> dict[str, Any]:
         """JSON-ready: every field, ``grids`` as a list."""
@@ -178,13 +196,14 @@ class ToleranceOnset:
 
 
 Runner = Callable[[Scene], dict[str, Any]]
+_FIELDS = ("status", *(f for pair in READINGS.values() for f in pair))
 
 
 def _store_runner(store: Store | str | Path | None, compute: bool) -> Runner:
     def run(sc: Scene) -> dict[str, Any]:
         stale = "recompute" if compute else "error"
         row = run_sweep([sc], store, compute=compute, on_stale=stale, progress=False).iloc[0]
-        return {k: (None if _missing(row[k]) else row[k]) for k in ("status", "t_c", "kappa3")}
+        return {k: (None if _missing(row.get(k)) else row[k]) for k in _FIELDS}
 
     return run
 
@@ -200,6 +219,7 @@ def onset_within(
     max_cells: int = CELLS[-1],
     store: Store | str | Path | None = None,
     compute: bool = True,
+    reading: str = "samples",
 ) -> ToleranceOnset:
     """The onset of ``scene`` on the cheapest rung (from ``fine``, N = 200) whose estimated
     errors of t_c and kappa3 are at most ``rtol`` times their values.
@@ -212,8 +232,11 @@ def onset_within(
     read and write each rung as a record (:func:`~dyntorsion.studies.sweep.run_sweep`;
     ``compute=False`` only reads); without it the rungs are computed here and kept
     nowhere (``compute=False`` then is an error).  ``scene``'s own grid plays no part.
+    ``reading``: which onset the rungs give, ``"samples"`` (the paper's rule) or
+    ``"continuous"`` (:data:`READINGS`).
     """
     rtol = check_rtol(rtol)
+    f_t, f_k = check_reading(reading)
     if not isinstance(scene, Scene):
         raise TypeError(f"scene={scene!r} must be a dyntorsion.buckling.scene.Scene")
     allowed = [n for n in CELLS if n >= VOUCHED]
@@ -234,11 +257,11 @@ def onset_within(
                 "n_cells": sc.n_cells,
                 "dt": sc.dt,
                 "status": res["status"],
-                "t_c": res["t_c"],
-                "kappa3": res["kappa3"],
+                "t_c": res.get(f_t),
+                "kappa3": res.get(f_k),
             }
         )
-        best = _judge(grids, sc, rtol, paced_by)
+        best = replace(_judge(grids, sc, rtol, paced_by), reading=reading)
         if best.met:
             return best
     assert best is not None

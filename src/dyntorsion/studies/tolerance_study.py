@@ -34,7 +34,7 @@ from ..store.location import default_store
 from ..store.results import Store
 from .presets import HOLDOUTS, holdout_scenes, preset, reference_scenes
 from .sweep import run_sweep
-from .tolerance import CELLS, VOUCHED, error_estimate, onset_within, rung_name
+from .tolerance import CELLS, VOUCHED, check_reading, error_estimate, onset_within, rung_name
 
 __all__ = [
     "SETS",
@@ -83,10 +83,15 @@ def _references(name: str, store: Store | str | Path | None) -> pd.DataFrame:
     )
 
 
-def pairs(name: str = SETS[0], store: Store | str | Path | None = None) -> pd.DataFrame:
+def pairs(
+    name: str = SETS[0], store: Store | str | Path | None = None, reading: str = "samples"
+) -> pd.DataFrame:
     """One row per scene of the hold-out set ``name``, judged rung and quantity (t_c,
     kappa3): the estimate, the true error against the N = 800 reference, whether it
-    covers, the overstatement."""
+    covers, the overstatement; ``reading``: the onset read off the samples or in
+    continuous time (:data:`~dyntorsion.studies.tolerance.READINGS`), on the rungs and the
+    reference alike."""
+    fields = dict(zip(("t_c", "kappa3"), check_reading(reading), strict=True))
     table, refs = _table(name, store), _references(name, store)
     rows = []
     for i, sc in enumerate(holdout_scenes(name)):
@@ -94,8 +99,9 @@ def pairs(name: str = SETS[0], store: Store | str | Path | None = None) -> pd.Da
         assert list(block.n_cells) == list(CELLS)
         ok = bool((block.status == "buckled").all()) and refs.status.iloc[i] == "buckled"
         for q in ("t_c", "kappa3"):
-            vals = block[q].to_numpy(dtype=float)
-            ref = float(refs[q].iloc[i])
+            vals = block[fields[q]].to_numpy(dtype=float)
+            ref = float(refs[fields[q]].iloc[i])
+            ok = ok and bool(np.isfinite(vals).all()) and math.isfinite(ref)
             for n in JUDGED:
                 k = CELLS.index(n)
                 est = error_estimate(vals[: k + 1]) if ok else np.nan
@@ -121,17 +127,21 @@ def pairs(name: str = SETS[0], store: Store | str | Path | None = None) -> pd.Da
 
 
 def chooser(
-    rtol: float, name: str = SETS[0], store: Store | str | Path | None = None
+    rtol: float,
+    name: str = SETS[0],
+    store: Store | str | Path | None = None,
+    reading: str = "samples",
 ) -> pd.DataFrame:
     """:func:`~dyntorsion.studies.tolerance.onset_within` at ``rtol`` (up to the ``fine``
     rung, N = 200) on every scene of the hold-out set ``name``, read from the records,
     with the true errors of the t_c and kappa3 it returns against the N = 800 reference."""
+    fields = dict(zip(("t_c", "kappa3"), check_reading(reading), strict=True))
     refs = _references(name, store)
     where = default_store() if store is None else store  # read, never compute
     rows = []
     for i, sc in enumerate(holdout_scenes(name)):
-        res = onset_within(sc, rtol, max_cells=200, store=where, compute=False)
-        ref = refs.iloc[i]
+        res = onset_within(sc, rtol, max_cells=200, store=where, compute=False, reading=reading)
+        ref = {q: refs[f].iloc[i] for q, f in fields.items()}
         row = {"scene": i, "group": group_of(sc), "a": sc.a, "rung": res.rung, "met": res.met}
         for q in ("t_c", "kappa3"):
             est, val = getattr(res, f"{q}_error"), getattr(res, q)
@@ -154,14 +164,15 @@ def coverage(
     rtol: float = 0.005,
     pairs_: pd.DataFrame | None = None,
     chosen: pd.DataFrame | None = None,
+    reading: str = "samples",
 ) -> pd.DataFrame:
     """The coverage table of the hold-out set ``name``: per group, per judged rung and
     over all, the estimates of t_c, the share covered, the median overstatement and the
     share overstated at most 3 times, the share of the kappa3 estimates covered (for a
     ramp kappa3 = kappa0 + a t_c: the same test, but kept apart), and the chooser at
     ``rtol`` (``pairs_`` and ``chosen``: :func:`pairs` and :func:`chooser` when at hand)."""
-    p = pairs(name, store) if pairs_ is None else pairs_
-    c = chooser(rtol, name, store) if chosen is None else chosen
+    p = pairs(name, store, reading) if pairs_ is None else pairs_
+    c = chooser(rtol, name, store, reading) if chosen is None else chosen
     p = p[p.buckled]
     out = []
     for group in [*dict.fromkeys(c.group), "all"]:
@@ -201,12 +212,12 @@ RULES: dict[str, Any] = {
 }
 
 
-def alternatives(store: Store | str | Path | None = None) -> pd.DataFrame:
+def alternatives(store: Store | str | Path | None = None, reading: str = "samples") -> pd.DataFrame:
     """Each rule of :data:`RULES` on the ``fine`` rung's t_c over each hold-out set: the
     share of scenes covered, the median overstatement and the share within 3 times."""
     rows = []
     for name in SETS:
-        true, d = _fine_differences(name, store)
+        true, d = _fine_differences(name, store, reading)
         for rule, f in RULES.items():
             est = np.array([f(row) for row in d])
             over = est / true
@@ -233,18 +244,21 @@ INDICATORS: dict[str, Any] = {
 }
 
 
-def _fine_differences(name: str, store: Store | str | Path | None) -> tuple[np.ndarray, np.ndarray]:
+def _fine_differences(
+    name: str, store: Store | str | Path | None, reading: str = "samples"
+) -> tuple[np.ndarray, np.ndarray]:
     """The true errors of the ``fine`` rung's t_c (against N = 800) and the differences
     (|d_K|, |d_K-1|, |d_K-2|) below it, one row per scene of the hold-out set ``name``."""
+    f_t = check_reading(reading)[0]
     t = _table(name, store)
     k = CELLS.index(VOUCHED)
-    v = t.t_c.to_numpy(dtype=float)[: len(holdout_scenes(name)) * len(CELLS)]
+    v = t[f_t].to_numpy(dtype=float)[: len(holdout_scenes(name)) * len(CELLS)]
     v = v.reshape(-1, len(CELLS))
-    true = np.abs(v[:, k] - _references(name, store).t_c.to_numpy(dtype=float))
+    true = np.abs(v[:, k] - _references(name, store)[f_t].to_numpy(dtype=float))
     return true, np.abs(np.diff(v[:, : k + 1], axis=1))[:, ::-1]
 
 
-def spread(store: Store | str | Path | None = None) -> pd.DataFrame:
+def spread(store: Store | str | Path | None = None, reading: str = "samples") -> pd.DataFrame:
     """Whether any multiple c of an error indicator f (:data:`INDICATORS`) could both cover
     95 % of the scenes and stay within 3 times the true error in most: covering needs
     c >= q95 of true / f, within 3 times in half the scenes needs c <= 3 x the median of
@@ -252,7 +266,7 @@ def spread(store: Store | str | Path | None = None) -> pd.DataFrame:
     ratio."""
     rows = []
     for name in SETS:
-        true, d = _fine_differences(name, store)
+        true, d = _fine_differences(name, store, reading)
         for label, f in INDICATORS.items():
             ratio = true / np.array([f(row) for row in d])
             q95, med = np.quantile(ratio, 0.95), np.median(ratio)
@@ -263,7 +277,9 @@ def spread(store: Store | str | Path | None = None) -> pd.DataFrame:
     return table.reindex(list(INDICATORS)).rename_axis(columns=None)
 
 
-def reference_error(store: Store | str | Path | None = None) -> pd.DataFrame:
+def reference_error(
+    store: Store | str | Path | None = None, reading: str = "samples"
+) -> pd.DataFrame:
     """How well the N = 800 reference knows t_c, against the true errors it judges: per
     hold-out set, the median over the scenes of |t_c(800) - t_c(400)| / t_c (the last
     step of the ladder: the reference's own error is about this over 3 where the onset
@@ -272,7 +288,7 @@ def reference_error(store: Store | str | Path | None = None) -> pd.DataFrame:
     errors larger than that last step (where "within 3 times" is judged soundly)."""
     rows = []
     for name in SETS:
-        p = pairs(name, store)
+        p = pairs(name, store, reading)
         t = p[(p.quantity == "t_c") & p.buckled]
         last = t[t.n_cells == CELLS[-1]].set_index("scene")
         step = (last.true / last.reference.abs()).rename("step")
