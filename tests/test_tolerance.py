@@ -105,6 +105,30 @@ def test_the_estimate_covers_the_converged_onset_of_a_cheap_scene():
     assert tight.t_c == res.t_c and tight.t_c_error == res.t_c_error
 
 
+def test_the_continuous_readings_estimate_is_twice_richardsons_for_second_order():
+    # exactly second order: Richardson's |d_K| / 3 is the error; the estimate twice that
+    v = [1.0 + 0.3 * 4.0**-k for k in range(5)]
+    for k in range(2, 5):
+        assert T.error_estimate(v[: k + 1], "continuous") == pytest.approx(2 * abs(v[k] - 1.0))
+    # two rungs that agree by coincidence: the previous difference over 4 keeps it
+    assert T.error_estimate([2.0, 1.0, 1.0 + 1e-9], "continuous") == pytest.approx(1 / 6)
+    with pytest.raises(ValueError, match="reading="):
+        T.error_estimate(v, "spline")
+
+
+def test_the_continuous_reading_is_asked_for_by_name():
+    """``reading="continuous"``: the rungs give the window read in continuous time (the
+    records' t_c_continuous), judged the same way; an unknown reading is refused naming
+    the allowed ones."""
+    with pytest.raises(ValueError, match=r"reading='spline'; allowed: 'samples', 'continuous'"):
+        T.onset_within(Scene(a=16.0, kappa0=10.0), 0.005, reading="spline")
+    res = T.onset_within(Scene(a=16.0, kappa0=10.0), 0.005, max_cells=200, reading="continuous")
+    assert res.reading == "continuous" and res.n_cells == 200
+    last = dyntorsion.buckling.scene.run_scene(T.rungs(Scene(a=16.0, kappa0=10.0), 4)[-1])
+    assert res.t_c == last["t_c_continuous"] and res.kappa3 == last["kappa3_continuous"]
+    assert res.t_c != last["t_c"]
+
+
 def test_buckle_rtol_json_covers_the_converged_onset(capsys):
     """Issue 34's "done when": ``dyntorsion buckle --a 1.6 --rtol 0.005 --json`` (the
     Fig 8 scene, kappa0 = 0) returns t_c with an error that covers the converged value."""

@@ -43,6 +43,19 @@ foreshadow ("Accuracy and cost" page), so the cheapest rung that can be vouched 
 ``fine``, whose estimate sees the step from N = 100 (checked on a second hold-out set
 computed after that change).
 
+The sample rule's irregular convergence is its own: it takes the samples whose values
+lie in its window, so its t_c moves by a fraction of a step whenever a sample enters or
+leaves.  The same window read in continuous time (``reading="continuous"``,
+:func:`~dyntorsion.buckling.onset.continuous_window_fit`, the records' ``t_c_continuous``)
+converges as the scheme does, at second order, so its estimate can trust the order:
+
+    e_K = (2/3) max(abs(d_K), abs(d_{K-1}) / 4),
+
+Richardson's abs(d_K) / 3 for the scheme's second order with a safety factor of 2, the
+previous difference scaled by 2^2 keeping two rungs that agree by coincidence from making
+it small.  (Fixed before the N = 800 references of the continuous reading were computed,
+after a look at both hold-out sets against their N = 400 rung; "Accuracy and cost" page.)
+
 :func:`onset_within` runs the rungs from the coarsest and returns the onset of the first
 rung (from ``fine`` on) whose estimated errors of t_c and kappa3 are within
 ``rtol`` of their values.  How honest the estimate is -- how often it covers the
@@ -158,13 +171,18 @@ def rungs(scene: Scene, count: int = len(CELLS)) -> list[Scene]:
     ]
 
 
-def error_estimate(values: Sequence[float]) -> float:
-    """The estimated error of ``values[-1]`` from values on rungs refined by 2,
-    ``max(|d_K|, |d_{K-1}|)`` (module docstring); at least three values."""
+def error_estimate(values: Sequence[float], reading: str = "samples") -> float:
+    """The estimated error of ``values[-1]`` from values on rungs refined by 2 (module
+    docstring; at least three values): read off the samples, ``max(|d_K|, |d_{K-1}|)``;
+    read in continuous time, ``(2/3) max(|d_K|, |d_{K-1}| / 4)``."""
+    check_reading(reading)
     v = [float(x) for x in values]
     if len(v) < 3 or not all(math.isfinite(x) for x in v):
         raise ValueError(f"values={values!r}: need at least three finite values (three rungs)")
-    return max(abs(v[-1] - v[-2]), abs(v[-2] - v[-3]))
+    d_k, d_k1 = abs(v[-1] - v[-2]), abs(v[-2] - v[-3])
+    if reading == "continuous":
+        return 2.0 / 3.0 * max(d_k, d_k1 / 4.0)
+    return max(d_k, d_k1)
 
 
 @dataclass(frozen=True)
@@ -261,7 +279,7 @@ def onset_within(
                 "kappa3": res.get(f_k),
             }
         )
-        best = replace(_judge(grids, sc, rtol, paced_by), reading=reading)
+        best = _judge(grids, sc, rtol, paced_by, reading)
         if best.met:
             return best
     assert best is not None
@@ -276,18 +294,21 @@ def onset_within(
     return replace(best, note=note)
 
 
-def _judge(grids: list[dict[str, Any]], sc: Scene, rtol: float, paced_by: str) -> ToleranceOnset:
+def _judge(
+    grids: list[dict[str, Any]], sc: Scene, rtol: float, paced_by: str, reading: str
+) -> ToleranceOnset:
     """The onset of the last rung in ``grids`` with its error estimate, met or not."""
     last = grids[-1]
     seq = [g for g in grids if g["status"] == "buckled" and g["t_c"] is not None]
-    common = dict(n_cells=sc.n_cells, dt=sc.dt, rung=last["rung"], rtol=rtol, paced_by=paced_by)
+    common = dict(n_cells=sc.n_cells, dt=sc.dt, rung=last["rung"], rtol=rtol, paced_by=paced_by,
+                  reading=reading)  # fmt: skip
     if last not in seq or len(seq) < 3:
         return ToleranceOnset(
             t_c=last["t_c"], t_c_error=None, kappa3=last["kappa3"], kappa3_error=None,
             met=False, status=last["status"], grids=tuple(grids), **common,
         )  # fmt: skip
-    e_t = error_estimate([g["t_c"] for g in seq])
-    e_k = error_estimate([g["kappa3"] for g in seq])
+    e_t = error_estimate([g["t_c"] for g in seq], reading)
+    e_k = error_estimate([g["kappa3"] for g in seq], reading)
     met = (
         sc.n_cells >= VOUCHED
         and e_t <= rtol * abs(last["t_c"])

@@ -104,7 +104,7 @@ def pairs(
             ok = ok and bool(np.isfinite(vals).all()) and math.isfinite(ref)
             for n in JUDGED:
                 k = CELLS.index(n)
-                est = error_estimate(vals[: k + 1]) if ok else np.nan
+                est = error_estimate(vals[: k + 1], reading) if ok else np.nan
                 true = abs(vals[k] - ref) if ok else np.nan
                 rows.append(
                     {
@@ -202,13 +202,20 @@ def coverage(
 
 
 #: error rules set beside the chooser's on the ``fine`` rung, from the differences
-#: d = (|d_K|, |d_{K-1}|) of t_c between it and the two rungs below
+#: d = (|d_K|, |d_{K-1}|) of t_c between it and the two rungs below (the chooser's rule
+#: for the samples and for the continuous reading among them)
 RULES: dict[str, Any] = {
     "max(|d_K|, |d_K-1|) (the chooser's)": lambda d: max(d[0], d[1]),
     "max(|d_K|, |d_K-1| / 2)": lambda d: max(d[0], d[1] / 2),
     "max(|d_K|, |d_K-1| / 4)": lambda d: max(d[0], d[1] / 4),
     "|d_K| (Richardson, order 1)": lambda d: d[0],
     "|d_K| / 3 (Richardson, order 2)": lambda d: d[0] / 3,
+    "(2/3) max(|d_K|, |d_K-1| / 4) (the chooser's, continuous)": lambda d: (
+        2 / 3 * max(d[0], d[1] / 4)
+    ),
+    "(1.25/3) max(|d_K|, |d_K-1| / 4) (Roache's GCI, 1.25)": lambda d: (
+        1.25 / 3 * max(d[0], d[1] / 4)
+    ),
 }
 
 
@@ -238,6 +245,7 @@ def alternatives(store: Store | str | Path | None = None, reading: str = "sample
 INDICATORS: dict[str, Any] = {
     "|d_K|": lambda d: d[0],
     "max(|d_K|, |d_K-1|)": lambda d: max(d[0], d[1]),
+    "max(|d_K|, |d_K-1| / 4)": lambda d: max(d[0], d[1] / 4),
     "|d_K| + |d_K-1|": lambda d: d[0] + d[1],
     "sqrt(|d_K| |d_K-1|)": lambda d: math.sqrt(d[0] * d[1]),
     "max(|d_K|, |d_K-1|, |d_K-2|)": lambda d: max(d[0], d[1], d[2]),
