@@ -129,6 +129,18 @@ def test_the_continuous_reading_is_asked_for_by_name():
     assert res.t_c != last["t_c"]
 
 
+def test_buckle_rtol_reading_continuous_on_the_command_line(tmp_path, capsys):
+    argv = ["buckle", "--a", "16", "--kappa0", "10", "--rtol", "0.01", "--store", str(tmp_path)]
+    assert main([*argv, "--reading", "continuous", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["reading"] == "continuous" and out["grid"]["n_cells"] == 200
+    assert main([*argv, "--reading", "continuous"]) == 0
+    assert "onset read in continuous time" in capsys.readouterr().out
+    with pytest.raises(SystemExit) as exit_:
+        main([*argv, "--reading", "spline"])
+    assert exit_.value.code == 2 and "--reading" in capsys.readouterr().err
+
+
 def test_buckle_rtol_json_covers_the_converged_onset(capsys):
     """Issue 34's "done when": ``dyntorsion buckle --a 1.6 --rtol 0.005 --json`` (the
     Fig 8 scene, kappa0 = 0) returns t_c with an error that covers the converged value."""

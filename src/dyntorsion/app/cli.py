@@ -25,7 +25,7 @@ from ..store.results import ON_CORRUPT, ON_STALE, Store
 from ..studies.presets import PRESETS, cached, preset
 from ..studies.sweep import KIND, run_sweep
 from .cli_options import add_scene_options, parse_rates, scene_from
-from .cli_rtol import RTOL_HELP, buckle_rtol, result_json, rtol_type, sweep_rtol
+from .cli_rtol import add_rtol_options, buckle_rtol, result_json, sweep_rtol
 from .contact_cli import add_contact_options, buckle_contact
 from .faults import EXIT_INTERRUPTED, describe
 
@@ -374,7 +374,7 @@ def parser() -> argparse.ArgumentParser:
     )
     b.add_argument("--on-stale", choices=ON_STALE, default="recompute")
     add_contact_options(b)  # with --json
-    b.add_argument("--rtol", type=rtol_type, default=None, metavar="R", help=RTOL_HELP)
+    add_rtol_options(b)
     b.set_defaults(func=_buckle)
 
     s = sub.add_parser("sweep", help="a sweep over loading rates (cached, resumable)")
@@ -406,7 +406,7 @@ def parser() -> argparse.ArgumentParser:
         help="a damaged record: move it aside (.corrupt) and recompute, or stop with an error",
     )
     s.add_argument("--quiet", action="store_true", help="no progress bar or log")
-    s.add_argument("--rtol", type=rtol_type, default=None, metavar="R", help=RTOL_HELP)
+    add_rtol_options(s)
     s.set_defaults(func=_sweep)
 
     lin = sub.add_parser(

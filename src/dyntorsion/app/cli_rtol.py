@@ -11,9 +11,9 @@ import pandas as pd
 
 from ..buckling.scene import Scene
 from ..store.results import json_ready
-from ..studies.tolerance import check_rtol, onset_within
+from ..studies.tolerance import READINGS, check_rtol, onset_within
 
-__all__ = ["RTOL_HELP", "rtol_type", "result_json", "buckle_rtol", "sweep_rtol"]
+__all__ = ["RTOL_HELP", "add_rtol_options", "rtol_type", "result_json", "buckle_rtol", "sweep_rtol"]
 
 RTOL_HELP = (
     "relative tolerance of t_c and kappa3 in (0, 1]: run the scene on the rungs of the "
@@ -30,6 +30,22 @@ def rtol_type(text: str) -> float:
         raise argparse.ArgumentTypeError(str(err).replace("rtol=", "--rtol ")) from None
 
 
+#: how each reading is said in the text output
+READ_AS = {"samples": "off the samples", "continuous": "in continuous time"}
+
+
+def add_rtol_options(parser: argparse.ArgumentParser) -> None:
+    """``--rtol R`` and ``--reading`` (which onset the rungs give) on a subcommand."""
+    parser.add_argument("--rtol", type=rtol_type, default=None, metavar="R", help=RTOL_HELP)
+    parser.add_argument(
+        "--reading",
+        choices=tuple(READINGS),
+        default="samples",
+        help="with --rtol: the onset read off the samples (the paper's rule, default) or the "
+        "same window read in continuous time, whose error estimate trusts the scheme's order",
+    )
+
+
 def result_json(result: dict) -> str:
     """One run's result as one JSON object (numbers as numbers, NaN and infinities as
     null, numpy scalars as Python ones): what ``--json`` prints."""
@@ -38,7 +54,7 @@ def result_json(result: dict) -> str:
 
 def buckle_rtol(args: argparse.Namespace, scene: Scene) -> int:
     """``buckle --rtol R``: the onset on the cheapest rung that meets R, with its error."""
-    res = onset_within(scene, args.rtol, store=args.store)
+    res = onset_within(scene, args.rtol, store=args.store, reading=args.reading)
     grid = {"rung": res.rung, "n_cells": res.n_cells, "dt": res.dt}
     if args.json:
         out = {"scene": scene.label().rsplit(" N=", 1)[0], **res.as_dict(), "grid": grid}
@@ -50,7 +66,7 @@ def buckle_rtol(args: argparse.Namespace, scene: Scene) -> int:
         print(
             f"rung       {g['rung']:<9} N={g['n_cells']:<4} dt={g['dt']:.4g} s  {g['status']:<9} t_c = {tc}"
         )
-    print(f"status     {res.status}")
+    print(f"status     {res.status} (onset read {READ_AS[res.reading]})")
     if res.t_c_error is None:
         print(res.note)
         return 1
@@ -74,7 +90,7 @@ def sweep_rtol(args: argparse.Namespace, scenes: list[Scene]) -> int:
         )
     rows = []
     for sc in scenes:
-        res = onset_within(sc, args.rtol, store=args.store)
+        res = onset_within(sc, args.rtol, store=args.store, reading=args.reading)
         rows.append({"a": sc.a, **{k: v for k, v in res.as_dict().items() if k != "grids"}})
     table = pd.DataFrame(rows)
     cols = [

@@ -164,8 +164,11 @@ def _step_grid() -> list[Scene]:
 #: and a compression (fractions of the clamped Euler load).  The first set was computed
 #: with the estimate fixed beforehand; the second (rates half a step of 10^(1/6) between
 #: Fig 10's, other seeds, another rod and loads) after the chooser's rule was changed
-#: in view of the first ("Accuracy and cost" page)
+#: in view of the first ("Accuracy and cost" page); the third (rates a quarter of a step
+#: above Fig 10's, other seeds, rod and loads) after the estimate of the continuous reading
+#: was fixed (2026-11-27), to test it
 HALF_RATES: tuple[float, ...] = tuple(float(1.6 * 10 ** ((k + 0.5) / 6)) for k in range(-9, 6))
+QUARTER_RATES: tuple[float, ...] = tuple(float(1.6 * 10 ** ((k + 0.25) / 6)) for k in range(-9, 6))
 HOLDOUTS: dict[str, dict[str, Any]] = {
     "tolerance-holdout": {
         "rates": FIG10_RATES,
@@ -180,6 +183,13 @@ HOLDOUTS: dict[str, dict[str, Any]] = {
         "rod": Rod(E=2.5e7, D=0.8e-3, rho=1000.0),
         "rod_rates": HALF_RATES[::3],
         "loads": (0.25, -0.5),
+    },
+    "tolerance-holdout-3": {
+        "rates": QUARTER_RATES,
+        "seeds": (1e-9, 1e-13, 1e-15),
+        "rod": Rod(E=5e7, D=1.2e-3, rho=2500.0),
+        "rod_rates": QUARTER_RATES[1::3],
+        "loads": (0.75, -0.4),
     },
 }
 
@@ -237,6 +247,7 @@ PRESETS: dict[str, Callable[[], list[Scene]]] = {
     "start-step-grid": _step_grid,
     "tolerance-holdout": lambda: _holdout("tolerance-holdout"),
     "tolerance-holdout-2": lambda: _holdout("tolerance-holdout-2"),
+    "tolerance-holdout-3": lambda: _holdout("tolerance-holdout-3"),
     "tolerance-reference": reference_scenes,
 }
 

@@ -85,6 +85,7 @@ __all__ = [
     "READINGS",
     "RUNG_NAMES",
     "ToleranceOnset",
+    "check_reading",
     "check_rtol",
     "error_estimate",
     "onset_within",
