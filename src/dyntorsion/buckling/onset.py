@@ -136,59 +136,59 @@ def least_squares_line(t: np.ndarray, u: np.ndarray) -> tuple[float, float]:
     return slope, u_mean - slope * t_mean
 
 
-def _cubic(t: np.ndarray, y: np.ndarray, k: int):
-    """The cubic through the samples k-1 .. k+2 (Lagrange), as a function of time: the
-    interpolant of the interval [t_k, t_k+1] (local, so the same on every machine)."""
-    ts, ys = t[k - 1 : k + 3], y[k - 1 : k + 3]
+def _piece(t: np.ndarray, y: np.ndarray, k: int) -> tuple[float, tuple[float, ...]]:
+    """The cubic through the samples k-1 .. k+2, the interpolant of the interval
+    [t_k, t_k+1]: (t_k, (c0, c1, c2, c3)) with p = c0 + c1 x + c2 x^2 + c3 x^3 in
+    x = t - t_k (Lagrange's form expanded; local, in Python floats, so the same on every
+    machine)."""
+    t0 = float(t[k])
+    xs = [float(t[k - 1 + i]) - t0 for i in range(4)]
+    c = [0.0, 0.0, 0.0, 0.0]
+    for i in range(4):
+        a, b, d = (xs[j] for j in range(4) if j != i)
+        w = float(y[k - 1 + i]) / ((xs[i] - a) * (xs[i] - b) * (xs[i] - d))
+        c[3] += w
+        c[2] -= w * (a + b + d)
+        c[1] += w * (a * b + a * d + b * d)
+        c[0] -= w * a * b * d
+    return t0, tuple(c)
 
-    def f(x):
-        x = np.asarray(x, dtype=float)
-        out = np.zeros_like(x)
-        for i in range(4):
-            w = np.ones_like(x)
-            for j in range(4):
-                if j != i:
-                    w = w * (x - ts[j]) / (ts[i] - ts[j])
-            out = out + ys[i] * w
-        return out
 
-    return f
+def _value(c: tuple[float, ...], x: float) -> float:
+    return ((c[3] * x + c[2]) * x + c[1]) * x + c[0]
 
 
-def _crossing(f, level: float, a: float, b: float) -> float:
-    """The time in [a, b] where the cubic f reaches ``level`` (bisection to round-off)."""
-    fa = float(f(a)) - level
-    for _ in range(200):
+def _crossing(c: tuple[float, ...], level: float, a: float, b: float) -> float:
+    """The x in [a, b] where the cubic c reaches ``level`` from below (bisection to
+    round-off; c(a) < level <= c(b))."""
+    while True:
         m = 0.5 * (a + b)
         if m <= a or m >= b:
-            break
-        fm = float(f(m)) - level
-        if (fm >= 0) == (fa >= 0):
-            a, fa = m, fm
-        else:
+            return m
+        if _value(c, m) >= level:
             b = m
-    return 0.5 * (a + b)
-
-
-def _maximum(f, a: float, b: float) -> float:
-    """The largest value of the cubic piece f on [a, b]: a scan of 64 subintervals, then
-    golden-section refinement around the best point (to round-off)."""
-    x = np.linspace(a, b, 65)
-    j = int(np.argmax(f(x)))
-    lo, hi = x[max(j - 1, 0)], x[min(j + 1, 64)]
-    g = 0.5 * (math.sqrt(5.0) - 1.0)
-    for _ in range(80):
-        c, d = hi - g * (hi - lo), lo + g * (hi - lo)
-        if float(f(c)) >= float(f(d)):
-            hi = d
         else:
-            lo = c
-    return max(float(f(0.5 * (lo + hi))), float(f(x[j])))
+            a = m
 
 
-_NODES, _WEIGHTS = np.polynomial.legendre.leggauss(4)
+def _maximum(c: tuple[float, ...], h: float) -> float:
+    """The largest value of the cubic c on [0, h]: at an end or where c' = 0."""
+    xs = [0.0, h]
+    qa, qb, qc = 3.0 * c[3], 2.0 * c[2], c[1]
+    if qa == 0.0:
+        if qb != 0.0:
+            xs.append(-qc / qb)
+    else:
+        disc = qb * qb - 4.0 * qa * qc
+        if disc >= 0.0:
+            q = -0.5 * (qb + math.copysign(math.sqrt(disc), qb))
+            xs += [q / qa] + ([qc / q] if q != 0.0 else [])
+    return max(_value(c, x) for x in xs if 0.0 <= x <= h)
+
+
 #: Gauss-Legendre nodes and weights on [0, 1], exact for the quartic t y(t) of a cubic piece
-_GL_X, _GL_W = 0.5 * (_NODES + 1.0), 0.5 * _WEIGHTS
+_GL_X = [0.5 * (1.0 + x) for x in np.polynomial.legendre.leggauss(4)[0].tolist()]
+_GL_W = [0.5 * w for w in np.polynomial.legendre.leggauss(4)[1].tolist()]
 
 
 def continuous_window_fit(
@@ -214,7 +214,9 @@ def continuous_window_fit(
     if not 2 <= i_peak <= n - 1:
         raise ValueError("the first peak lies too close to the record's start for cubics")
     pieces = [k for k in (i_peak - 1, i_peak) if k <= n - 3]  # none where the record ends at it
-    peak = max([float(y[i_peak]), *(_maximum(_cubic(t, y, k), t[k], t[k + 1]) for k in pieces)])
+    peak = float(y[i_peak])
+    for k in pieces:
+        peak = max(peak, _maximum(_piece(t, y, k)[1], float(t[k + 1] - t[k])))
     ends = []
     for frac in (lo, hi):
         level = frac * peak
@@ -223,22 +225,29 @@ def continuous_window_fit(
             raise ValueError(
                 f"the window's end at {frac:g} of the peak is too close to the record's start"
             )
-        ends.append(_crossing(_cubic(t, y, j - 1), level, t[j - 1], t[j]))
+        t0, c = _piece(t, y, j - 1)
+        ends.append(t0 + _crossing(c, level, 0.0, float(t[j] - t[j - 1])))
     t0, t1 = ends
     if not t1 > t0:
         raise ValueError("the continuous window is empty")
-    knots = [t0, *(x for x in t if t0 < x < t1), t1]
+    knots = [t0, *t[(t > t0) & (t < t1)].tolist(), t1]
     W, T, Y = [], [], []
     for a, b in zip(knots[:-1], knots[1:], strict=True):
         k = min(max(int(np.searchsorted(t, a, side="right")) - 1, 1), n - 3)
-        x = a + (b - a) * _GL_X
-        W.extend((b - a) * _GL_W)
-        T.extend(x)
-        Y.extend(_cubic(t, y, k)(x))
-    W, T, Y = np.asarray(W), np.asarray(T), np.asarray(Y)
+        tk, c = _piece(t, y, k)
+        for x, w in zip(_GL_X, _GL_W, strict=True):
+            tx = a + (b - a) * x
+            W.append((b - a) * w)
+            T.append(tx)
+            Y.append(_value(c, tx - tk))
     w = math.fsum(W)
-    t_mean, y_mean = math.fsum(W * T) / w, math.fsum(W * Y) / w
-    slope = math.fsum(W * (T - t_mean) * (Y - y_mean)) / math.fsum(W * (T - t_mean) ** 2)
+    t_mean, y_mean = (
+        math.fsum(w_ * t_ for w_, t_ in zip(W, T, strict=True)) / w,
+        math.fsum(w_ * y_ for w_, y_ in zip(W, Y, strict=True)) / w,
+    )
+    sxy = math.fsum(w_ * (t_ - t_mean) * (y_ - y_mean) for w_, t_, y_ in zip(W, T, Y, strict=True))
+    sxx = math.fsum(w_ * (t_ - t_mean) ** 2 for w_, t_ in zip(W, T, strict=True))
+    slope = sxy / sxx
     return t_mean - y_mean / slope, slope
 
 
