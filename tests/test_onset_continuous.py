@@ -127,3 +127,25 @@ def test_the_fig08_onset_read_in_continuous_time_converges_at_second_order_in_dt
     assert min(abs(x - richardson) for x in s) > 3 * abs(c[2] - richardson)
     for r in runs:
         assert r["kappa3_continuous"] == pytest.approx(1.6 * r["t_c_continuous"], rel=1e-14)
+
+
+def test_on_the_cached_fig08_ladder_the_continuous_reading_converges_at_second_order():
+    """The committed records of the Fig 8 ladder (preset accuracy-fig08): over the steps
+    0.02, 0.01, 0.005 s the continuous reading's observed order is 1.92, 2.22, 2.20 at
+    N = 100, 200, 400 (the scheme's second order), the sample rule's -3.4, 5.4, 5.4 (no
+    order); the continuous reading's last step (0.005 s) is within 1.2e-4 s of its value
+    at 0.00125 s, the sample rule's 8e-4 to 1.8e-3 s away."""
+    from dyntorsion.studies import presets as P
+
+    t = P.cached("accuracy-fig08")
+    for n in (100, 200, 400):
+        rows = t[t.n_cells == n].sort_values("dt", ascending=False)
+        for col, lo, hi in (("t_c_continuous", 1.7, 2.5), ("t_c", None, None)):
+            v = rows[col].to_numpy()
+            p = math.log2(abs(v[0] - v[1]) / abs(v[1] - v[2]))
+            if lo is not None:
+                assert lo < p < hi, (n, col, p)
+            else:
+                assert not 1.0 < p < 3.0, (n, col, p)
+        c, s = rows.t_c_continuous.to_numpy(), rows.t_c.to_numpy()
+        assert abs(c[2] - c[-1]) < 1.2e-4 and abs(s[2] - s[-1]) > 5 * abs(c[2] - c[-1])

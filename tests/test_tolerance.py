@@ -4,6 +4,7 @@ relative tolerance, with an a-posteriori error estimate that covers a converged 
 import json
 import math
 
+import pandas as pd
 import pytest
 
 import dyntorsion
@@ -211,9 +212,44 @@ def test_the_reference_is_finer_than_what_it_judges():
 
 def test_no_multiple_of_an_error_indicator_is_both_safe_and_within_3_times():
     """Issue 34 asked for estimates covering 95 % and within 3 times the true error in most:
-    for every indicator of :data:`~dyntorsion.studies.tolerance_study.INDICATORS` on both
-    sets, the 95th percentile of true error / indicator exceeds 3 times its median
-    (measured: at least 3.6), so no multiple of it does both (the page says so)."""
+    read off the samples, for every indicator of
+    :data:`~dyntorsion.studies.tolerance_study.INDICATORS`, the 95th percentile of true
+    error / indicator exceeds 3 times its median on one of the first two sets at least
+    (measured: 3.7 or more), so no multiple of it does both there (the page says so)."""
     from dyntorsion.studies import tolerance_study as TS
 
-    assert (TS.spread().to_numpy() > 3.0).all()
+    assert (TS.spread()[list(TS.SETS[:2])].max(axis=1) > 3.0).all()
+
+
+def test_read_in_continuous_time_the_estimate_is_honest_on_the_set_computed_after_it():
+    """The continuous reading's estimate (2/3) max(|d_K|, |d_K-1|/4), fixed before the third
+    hold-out set was defined: on that set the fine rung's estimates cover at least 95 % of
+    the true errors against N = 800 (measured 95.0 %, 57 of 60) and are within 3 times
+    in most (67 %); on the first two sets, looked at when the rule was fixed, they cover
+    90.9 and 91.7 % (asserted: at least 90 %) at a median overstatement of 2.3.  The
+    indicator's spread is at most 3 on every set (2.97, 2.51, 2.42), where the samples'
+    reaches 4.8, and the fine rung is closer in continuous time (median true error
+    0.016 % of t_c against 0.051 %)."""
+    from dyntorsion.studies import tolerance_study as TS
+
+    fine = {}
+    for reading in ("samples", "continuous"):
+        for name in TS.SETS:
+            p = TS.pairs(name, reading=reading)
+            f = p[(p.rung == "fine") & (p.quantity == "t_c")]
+            assert f.buckled.all() and f.scene.nunique() >= 60
+            fine[reading, name] = f
+    third = fine["continuous", TS.SETS[2]]
+    assert third.covered.mean() >= 0.95 and (third.overstatement <= 3).mean() > 0.5
+    for name in TS.SETS:
+        f = fine["continuous", name]
+        assert f.covered.mean() >= 0.90 and f.overstatement.median() < 3
+    spread = TS.spread(reading="continuous").loc["max(|d_K|, |d_K-1| / 4)"]
+    assert (spread <= 3).all()
+    assert TS.spread().loc["max(|d_K|, |d_K-1| / 4)"].max() > 4
+
+    def median_true(reading):
+        f = pd.concat([fine[reading, name] for name in TS.SETS])
+        return (f.true / f.reference.abs()).median()
+
+    assert median_true("continuous") < 0.5 * median_true("samples")

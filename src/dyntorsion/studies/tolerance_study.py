@@ -45,6 +45,7 @@ __all__ = [
     "coverage",
     "alternatives",
     "reference_error",
+    "multiples",
     "spread",
 ]
 
@@ -283,6 +284,26 @@ def spread(store: Store | str | Path | None = None, reading: str = "samples") ->
         index="indicator", columns="set", values="q95 / median of true / f"
     )
     return table.reindex(list(INDICATORS)).rename_axis(columns=None)
+
+
+def multiples(
+    store: Store | str | Path | None = None,
+    reading: str = "samples",
+    indicator: str = "max(|d_K|, |d_K-1| / 4)",
+) -> pd.DataFrame:
+    """The multiples c of an indicator f (:data:`INDICATORS`) that would both cover 95 % of
+    a set's scenes and stay within 3 times the true error in half of them lie between the
+    95th percentile of true / f and 3 times its median (:func:`spread`): per hold-out set,
+    those two bounds; a multiple that does both on every set exists only if the largest
+    lower bound is at most the smallest upper one."""
+    f = INDICATORS[indicator]
+    rows = []
+    for name in SETS:
+        true, d = _fine_differences(name, store, reading)
+        ratio = true / np.array([f(row) for row in d])
+        rows.append({"set": name, "at least (q95)": np.quantile(ratio, 0.95),
+                     "at most (3 x median)": 3 * np.median(ratio)})  # fmt: skip
+    return pd.DataFrame(rows).set_index("set")
 
 
 def reference_error(
