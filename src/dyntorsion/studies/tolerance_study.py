@@ -211,7 +211,7 @@ RULES: dict[str, Any] = {
     "max(|d_K|, |d_K-1| / 4)": lambda d: max(d[0], d[1] / 4),
     "|d_K| (Richardson, order 1)": lambda d: d[0],
     "|d_K| / 3 (Richardson, order 2)": lambda d: d[0] / 3,
-    "(2/3) max(|d_K|, |d_K-1| / 4) (the chooser's, continuous)": lambda d: (
+    "(2/3) max(|d_K|, |d_K-1| / 4) (the continuous reading's)": lambda d: (
         2 / 3 * max(d[0], d[1] / 4)
     ),
     "(1.25/3) max(|d_K|, |d_K-1| / 4) (Roache's GCI, 1.25)": lambda d: (
