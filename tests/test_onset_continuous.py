@@ -149,3 +149,13 @@ def test_on_the_cached_fig08_ladder_the_continuous_reading_converges_at_second_o
                 assert not 1.0 < p < 3.0, (n, col, p)
         c, s = rows.t_c_continuous.to_numpy(), rows.t_c.to_numpy()
         assert abs(c[2] - c[-1]) < 1.2e-4 and abs(s[2] - s[-1]) > 5 * abs(c[2] - c[-1])
+
+
+def test_the_gauss_legendre_rule_integrates_degree_seven_exactly():
+    """The 4-point rule on [0, 1] from its closed forms: the moments 1/(k+1) for k <= 7."""
+    from dyntorsion.buckling import onset as O
+
+    for k in range(8):
+        assert math.fsum(w * x**k for x, w in zip(O._GL_X, O._GL_W, strict=True)) == pytest.approx(
+            1 / (k + 1), rel=1e-15, abs=0
+        )

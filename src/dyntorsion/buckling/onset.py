@@ -186,9 +186,14 @@ def _maximum(c: tuple[float, ...], h: float) -> float:
     return max(_value(c, x) for x in xs if 0.0 <= x <= h)
 
 
-#: Gauss-Legendre nodes and weights on [0, 1], exact for the quartic t y(t) of a cubic piece
-_GL_X = [0.5 * (1.0 + x) for x in np.polynomial.legendre.leggauss(4)[0].tolist()]
-_GL_W = [0.5 * w for w in np.polynomial.legendre.leggauss(4)[1].tolist()]
+#: 4-point Gauss-Legendre nodes and weights on [0, 1], exact for the quartic t y(t) of a
+#: cubic piece, from their closed forms (correctly rounded square roots: no LAPACK, the
+#: same bits on every machine)
+_GL_A, _GL_B = (math.sqrt(3 / 7 + s * 2 / 7 * math.sqrt(6 / 5)) for s in (-1.0, 1.0))
+_GL_X = [0.5 * (1.0 - _GL_B), 0.5 * (1.0 - _GL_A), 0.5 * (1.0 + _GL_A), 0.5 * (1.0 + _GL_B)]
+_GL_W = [
+    w / 72 for w in (18 - math.sqrt(30), 18 + math.sqrt(30), 18 + math.sqrt(30), 18 - math.sqrt(30))
+]
 
 
 def continuous_window_fit(
