@@ -46,17 +46,13 @@ def test_greenhill_clamped_root_solves_its_determinant(T):
         assert abs(mpmath.det(A)) / scale < 1e-12
 
 
-@pytest.mark.xfail(
-    strict=True,
-    raises=ValueError,
-    reason="greenhill_clamped scans M <= 40 B/L only (known limitation)",
-)
-def test_greenhill_clamped_under_a_tension_of_more_than_19_tension_lengths():
-    """A clamped rod L sqrt(T/B) = 20 long (M L/B near 2 * 20 > 40) has its critical moment
-    just above Greenhill's infinite-rod 2 sqrt(B T); the scan does not reach it yet.  Found
-    by benchmarks/plectoneme_plateau.py (a 5 m rod of PyElastica's section under 5 N); strict,
-    so the test says when the limitation is lifted."""
-    T = (20.0 / L) ** 2 * B
+@pytest.mark.parametrize("lam", [20.0, 40.0])
+def test_greenhill_clamped_under_a_tension_of_more_than_19_tension_lengths(lam):
+    """A clamped rod L sqrt(T/B) = lam long (M L/B near 2 lam > 40, beyond the scan of
+    40 B/L it once stopped at; found by benchmarks/plectoneme_plateau.py, a 5 m rod of
+    PyElastica's section under 5 N) has its critical moment just above Greenhill's
+    infinite-rod 2 sqrt(B T)."""
+    T = (lam / L) ** 2 * B
     M = S.greenhill_clamped(B, L, T)
     assert 1.0 < M / (2 * math.sqrt(B * T)) < 1.2
 

@@ -119,10 +119,9 @@ def greenhill_clamped(B: float, L: float, tension: float = 0.0, digits: int = 40
     l+- = (i M +- d)/(2B), d = sqrt(4 B T - M^2), vanishes.  The determinant times
     e^{-i M L/(2B)}/d is real, so its first sign change brackets the root (mpmath).
 
-    The scan runs over 0.05 B/L <= M <= 40 B/L: under a tension that makes the rod more than
-    about 19 tension lengths long (L sqrt(T/B) >~ 19, where M L / B passes 40) it finds no
-    root and raises ``ValueError`` (a 5 m rod of PyElastica's section under 5 N does; known
-    limitation, to be lifted by scanning up to a bound that grows with L sqrt(T/B))."""
+    The scan runs over 0.05 B/L <= M <= max(40, 2.5 lam + 10) B/L, lam = L sqrt(T/B) the
+    rod's length in tension lengths (M L / B tends to 2 lam from above), in steps of
+    0.05 B/L."""
     if tension == 0.0:
         return 2 * math.pi * B * m_cri / L
     with mpmath.workdps(digits):
@@ -139,7 +138,15 @@ def greenhill_clamped(B: float, L: float, tension: float = 0.0, digits: int = 40
             return v.real + v.imag  # one of the two is zero to working precision
 
         scale = B_ / L_
-        grid = [scale * mpmath.mpf(x) for x in np.linspace(0.05, 40.0, 800)]
+        # M L / B of a clamped rod L sqrt(T/B) = lam tension lengths long tends to 2 lam from
+        # above: beyond 40 the scan goes on in the same steps up to 2.5 lam + 10
+        top = max(40.0, 2.5 * L * math.sqrt(max(tension, 0.0) / B) + 10.0)
+        xs = np.linspace(0.05, 40.0, 800)
+        step = xs[1] - xs[0]
+        xs = np.concatenate(
+            [xs, 40.0 + step * np.arange(1, int(math.ceil((top - 40.0) / step)) + 1)]
+        )
+        grid = [scale * mpmath.mpf(x) for x in xs]
         prev = g(grid[0])
         for lo, hi in zip(grid[:-1], grid[1:], strict=True):
             cur = g(hi)
@@ -147,7 +154,7 @@ def greenhill_clamped(B: float, L: float, tension: float = 0.0, digits: int = 40
                 root = mpmath.findroot(g, (lo, hi), solver="anderson")
                 return float(root)
             prev = cur
-    raise ValueError(f"no critical moment found below 40 B/L (tension={tension})")
+    raise ValueError(f"no critical moment found below {top:.4g} B/L (tension={tension})")
 
 
 # ---------------------------------------------------------------- transfer matrix
