@@ -73,12 +73,7 @@ def one(n: int, lam_t: float, t_end: float) -> dict:
              for ts in SHOTS if ts <= t[-1] + 1e-9}  # fmt: skip
     return {
         "n_cells": n, "lam_t": lam_t, "t_end": t_end, "result": res,
-        "history": {
-            "t": t.tolist(), "link_turns": h["link"].tolist(),
-            "twist_turns": h["twist"].tolist(), "writhe_turns": h["writhe"].tolist(),
-            "sites": h["sites"].tolist(), "overlap_over_D": h["overlap_over_D"].tolist(),
-            "end_moment": h["end_moment"].tolist(),
-        },
+        "history": run.histories(),
         "shots": shots,
         "final_centreline": np.round(h["r"][-1], DIGITS).tolist(),
     }  # fmt: skip

@@ -22,16 +22,13 @@ core; each run's wall time is in the record).  Resumes like the other records
 from __future__ import annotations
 
 import dataclasses
-import json
 import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import plectoneme_dyntorsion as dyn  # noqa: E402
-from dyntorsion.app.cli_rtol import result_json  # noqa: E402
-from dyntorsion.beyond.contact.plectoneme import plectoneme_turns  # noqa: E402
-from dyntorsion.beyond.contact.run import ContactScene, run_contact_scene  # noqa: E402
+from dyntorsion.beyond.contact.run import ContactScene  # noqa: E402
 from records import provenance, run_script, summary  # noqa: E402
 
 #: the contact stiffness of these runs against the side-by-side record's (dyn.STIFFNESS)
@@ -55,19 +52,7 @@ def params() -> dict:
 
 
 def one(n: int, dt: float) -> dict:
-    run = run_contact_scene(contact_scene(n, dt))
-    res = json.loads(result_json(run.result()))
-    h = run.history
-    r_final = h["r"][-1]
-    return {
-        "n_cells": n, "dt": dt, "result": res,
-        "history": {
-            "t": h["t"].tolist(), "link_turns": h["link"].tolist(),
-            "twist_turns": h["twist"].tolist(), "writhe_turns": h["writhe"].tolist(),
-            "sites": h["sites"].tolist(), "overlap_over_D": h["overlap_over_D"].tolist(),
-        },
-        "plectoneme": plectoneme_turns(r_final, 2.0 * dyn.RADIUS)._asdict(),
-    }  # fmt: skip
+    return dyn.row(contact_scene(n, dt), n, dt)
 
 
 def report(row: dict) -> str:

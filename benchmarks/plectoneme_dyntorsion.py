@@ -113,24 +113,20 @@ def params() -> dict:
             "key": contact_scene(*RUNS[0]).params()}  # fmt: skip
 
 
-def one(n: int, dt: float) -> dict:
-    run = run_contact_scene(contact_scene(n, dt))
-    res = json.loads(result_json(run.result()))
-    h = run.history
-    r_final = h["r"][-1]
-    p = plectoneme_turns(r_final, 2.0 * RADIUS)
+def row(cs: ContactScene, n: int, dt: float) -> dict:
+    """Run ``cs`` (``n`` cells, step ``dt``) and keep its result, histories, last
+    centreline and the plectoneme turns of it."""
+    run = run_contact_scene(cs)
+    r_final = run.history["r"][-1]
     return {
-        "n_cells": n, "dt": dt, "result": res,
-        "history": {
-            "t": h["t"].tolist(), "link_turns": h["link"].tolist(),
-            "twist_turns": h["twist"].tolist(), "writhe_turns": h["writhe"].tolist(),
-            "sites": h["sites"].tolist(), "overlap_over_D": h["overlap_over_D"].tolist(),
-            "end_axial_position": h["r"][:, -1, 2].tolist(),
-            "end_moment": h["end_moment"].tolist(),
-        },
-        "final_centreline": r_final.tolist(),
-        "plectoneme": p._asdict(),
+        "n_cells": n, "dt": dt, "result": json.loads(result_json(run.result())),
+        "history": run.histories(), "final_centreline": r_final.tolist(),
+        "plectoneme": plectoneme_turns(r_final, 2.0 * RADIUS)._asdict(),
     }  # fmt: skip
+
+
+def one(n: int, dt: float) -> dict:
+    return row(contact_scene(n, dt), n, dt)
 
 
 def report(row: dict) -> str:

@@ -6,9 +6,10 @@ The section, material, tension, damping, contact and seed of ``plectoneme_tensio
 (imported from there: one place for them; the ply theory's eps = a sqrt(T / B) = 0.1), on
 a rod ``LENGTH`` = 4 m long (L sqrt(T / B) = 16) with cells of the same length
 (``N_CELLS`` = 160, 0.5 D), turned at the same rate (0.05 turns/s) by ``TURNS`` = 11 turns,
-about 7 past the static critical rotation, and held.  (Not longer: the package's
-Greenhill determinant, ``statics.greenhill_clamped``, scans the critical moment up to
-40 B / L only, which a clamped rod more than about 19 tension lengths long exceeds.)  On
+about 7 past the static critical rotation, and held.  (Not longer when first
+run: the package's Greenhill determinant, ``statics.greenhill_clamped``, then scanned the
+critical moment up to 40 B / L only, which a clamped rod more than about 19 tension
+lengths long exceeds; it now scans as far as the rod's length asks.)  On
 the 2.5 m rod the plectoneme is little more than a turn long when the turning stops, and
 the torque over the first turn after the jump lies 1.22 times above the two-ply plateau
 (``plectoneme_tension.json``); the question here is whether a longer ply levels off at the
@@ -32,8 +33,6 @@ Run: ``python benchmarks/plectoneme_plateau.py`` (26 min here beside two other r
 
 from __future__ import annotations
 
-import json
-import math
 import sys
 import time
 from pathlib import Path
@@ -42,14 +41,6 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import plectoneme_tension as pt  # noqa: E402
 from dyntorsion import Rod  # noqa: E402
-from dyntorsion.app.cli_rtol import result_json  # noqa: E402
-from dyntorsion.beyond.contact.plectoneme import plectoneme_turns  # noqa: E402
-from dyntorsion.beyond.contact.run import Contact, ContactScene, run_contact_scene  # noqa: E402
-from dyntorsion.beyond.ply import ply, ply_torque_leading  # noqa: E402
-from dyntorsion.buckling.scene import Scene  # noqa: E402
-from dyntorsion.buckling.statics import critical_twist  # noqa: E402
-from dyntorsion.buckling.turning import TurnHold  # noqa: E402
-from dyntorsion.genalpha.scheme import Scheme  # noqa: E402
 from records import provenance, resume, write  # noqa: E402
 
 LENGTH = 4.0
@@ -66,17 +57,7 @@ def rod() -> Rod:
 
 
 def theory() -> dict:
-    r = rod()
-    kc = critical_twist(r, pt.TENSION)
-    return {
-        "kappa_cri": kc, "critical_torque": r.C * kc,
-        "critical_turns": kc * LENGTH / (2 * math.pi),
-        "greenhill_infinite": 2 * math.sqrt(r.B1 * pt.TENSION),
-        "ply": ply(pt.TENSION, r.B1, pt.RADIUS)._asdict(),
-        "ply_leading": ply_torque_leading(pt.TENSION, r.B1, pt.RADIUS),
-        "eps": pt.RADIUS * math.sqrt(pt.TENSION / r.B1),
-        "lam": LENGTH * math.sqrt(pt.TENSION / r.B1), "C": r.C, "B": r.B1,
-    }  # fmt: skip
+    return pt.theory(rod())
 
 
 def params() -> dict:
@@ -87,33 +68,8 @@ def params() -> dict:
             "t_end": T_END, "tau": pt.TAU}  # fmt: skip
 
 
-def contact_scene() -> ContactScene:
-    scene = Scene(
-        history=TurnHold(TURNS, T_TURN, tau=pt.TAU), ends="clamped-turned", rod=rod(),
-        tension=pt.TENSION, n_cells=N_CELLS, dt=pt.DT, t_end=T_END,
-        scheme=Scheme(lam_t=pt.LAM_T), seed=pt.seed(),
-    )  # fmt: skip
-    contact = Contact(stiffness=pt.STIFFNESS, viscous=pt.VISCOUS,
-                      viscous_moment=pt.VISCOUS_MOMENT, max_step=pt.DT, check=0.1)  # fmt: skip
-    return ContactScene(scene, contact)
-
-
 def curve() -> dict:
-    run = run_contact_scene(contact_scene())
-    h = run.history
-    plects = [plectoneme_turns(r, 2 * pt.RADIUS) for r in h["r"]]
-    return {
-        "result": json.loads(result_json(run.result())),
-        "history": {
-            "t": h["t"].tolist(), "link_turns": h["link"].tolist(),
-            "twist_turns": h["twist"].tolist(), "writhe_turns": h["writhe"].tolist(),
-            "end_moment": h["end_moment"].tolist(), "sites": h["sites"].tolist(),
-            "overlap_over_D": h["overlap_over_D"].tolist(),
-            "end_axial_position": h["r"][:, -1, 2].tolist(),
-            "plectoneme_turns": [p.turns for p in plects],
-        },
-        "final_centreline": h["r"][-1].tolist(),
-    }  # fmt: skip
+    return pt.curve_of(pt.contact_scene(rod(), N_CELLS, TURNS, T_TURN, T_END))
 
 
 def main() -> int:

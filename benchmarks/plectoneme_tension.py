@@ -47,7 +47,6 @@ import numpy as np
 
 from dyntorsion import Rod
 from dyntorsion.app.cli_rtol import result_json
-from dyntorsion.beyond.contact.plectoneme import plectoneme_turns
 from dyntorsion.beyond.contact.run import Contact, ContactScene, run_contact_scene
 from dyntorsion.beyond.ply import ply, ply_torque_leading
 from dyntorsion.buckling import simulate
@@ -77,15 +76,16 @@ def seed() -> Perturbation:
     return Perturbation(SEED, form="point")
 
 
-def theory() -> dict:
-    r = rod()
+def theory(r: Rod | None = None) -> dict:
+    """The static critical twist of ``r`` (default :func:`rod`) under ``TENSION``, the
+    infinite rod's Greenhill moment and the two-ply plateau (:mod:`dyntorsion.beyond.ply`)."""
+    r = rod() if r is None else r
     kc = critical_twist(r, TENSION)
-    p = ply(TENSION, r.B1, RADIUS)
     return {
-        "kappa_cri": kc, "critical_torque": r.C * kc, "critical_turns": kc * LENGTH / (2 * math.pi),
-        "greenhill_infinite": 2 * math.sqrt(r.B1 * TENSION), "ply": p._asdict(),
+        "kappa_cri": kc, "critical_torque": r.C * kc, "critical_turns": kc * r.L / (2 * math.pi),
+        "greenhill_infinite": 2 * math.sqrt(r.B1 * TENSION), "ply": ply(TENSION, r.B1, RADIUS)._asdict(),
         "ply_leading": ply_torque_leading(TENSION, r.B1, RADIUS),
-        "eps": RADIUS * math.sqrt(TENSION / r.B1), "lam": LENGTH * math.sqrt(TENSION / r.B1),
+        "eps": RADIUS * math.sqrt(TENSION / r.B1), "lam": r.L * math.sqrt(TENSION / r.B1),
         "C": r.C, "B": r.B1,
     }  # fmt: skip
 
@@ -123,29 +123,32 @@ def bracket(kc: float) -> list[dict]:
     return rows
 
 
-def curve() -> dict:
+def contact_scene(r: Rod, n_cells: int, turns: float, t_turn: float, t_end: float) -> ContactScene:
+    """The rod ``r`` under ``TENSION`` turned by ``turns`` in ``t_turn`` s and held to
+    ``t_end``, with this scene's grid step, damping, seed and contact."""
     scene = Scene(
-        history=TurnHold(TURNS, T_TURN, tau=TAU), ends="clamped-turned", rod=rod(),
-        tension=TENSION, n_cells=N_CELLS, dt=DT, t_end=T_END, scheme=Scheme(lam_t=LAM_T),
+        history=TurnHold(turns, t_turn, tau=TAU), ends="clamped-turned", rod=r,
+        tension=TENSION, n_cells=n_cells, dt=DT, t_end=t_end, scheme=Scheme(lam_t=LAM_T),
         seed=seed(),
     )  # fmt: skip
     contact = Contact(stiffness=STIFFNESS, viscous=VISCOUS, viscous_moment=VISCOUS_MOMENT, max_step=DT,
                       check=0.1)  # fmt: skip
-    run = run_contact_scene(ContactScene(scene, contact))
-    h = run.history
-    plects = [plectoneme_turns(r, 2 * RADIUS) for r in h["r"]]
+    return ContactScene(scene, contact)
+
+
+def curve_of(cs: ContactScene) -> dict:
+    """Run ``cs`` and keep its result, its histories with the plectoneme turns of every
+    recorded centreline, and the last centreline."""
+    run = run_contact_scene(cs)
     return {
         "result": json.loads(result_json(run.result())),
-        "history": {
-            "t": h["t"].tolist(), "link_turns": h["link"].tolist(),
-            "twist_turns": h["twist"].tolist(), "writhe_turns": h["writhe"].tolist(),
-            "end_moment": h["end_moment"].tolist(), "sites": h["sites"].tolist(),
-            "end_axial_position": h["r"][:, -1, 2].tolist(),
-            "plectoneme_turns": [p.turns for p in plects],
-            "plectoneme_pairs": [p.pairs for p in plects],
-        },
-        "final_centreline": h["r"][-1].tolist(),
-    }  # fmt: skip
+        "history": run.histories(plectoneme=True),
+        "final_centreline": run.history["r"][-1].tolist(),
+    }
+
+
+def curve() -> dict:
+    return curve_of(contact_scene(rod(), N_CELLS, TURNS, T_TURN, T_END))
 
 
 def main() -> int:

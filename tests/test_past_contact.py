@@ -192,6 +192,25 @@ def test_before_contact_link_equals_twist_and_the_shape_stays_consistent(implici
     assert max(res["drift"].values()) < 1e-6
 
 
+def test_the_histories_are_the_runs_own_records_as_json_lists():
+    """ContactRun.histories: one list per check, read off the run's history (the records of
+    data/bench and data/contact are written with it); the far end of a clamped rod stays at
+    L, and a straight rod has no plectoneme."""
+    import json
+
+    scene = Scene(a=16.0, kappa0=10.0, t_end=0.1, n_cells=20, dt=0.01)
+    run = run_contact_scene(ContactScene(scene, Contact(stiffness=200.0, check=0.02)))
+    h = run.histories(plectoneme=True)
+    json.dumps(h)
+    n = len(run.history["t"])
+    assert n >= 5 and all(len(v) == n for v in h.values())
+    assert h["link_turns"] == run.history["link"].tolist()
+    assert h["end_moment"] == run.history["end_moment"].tolist()
+    assert h["end_axial_position"] == pytest.approx([scene.rod.L] * n, abs=1e-9)
+    assert set(h["plectoneme_pairs"]) == {0} and set(h["plectoneme_turns"]) == {0.0}
+    assert "plectoneme_turns" not in run.histories()
+
+
 def test_cli_buckle_contact_prints_one_json_object(capsys):
     import json
 

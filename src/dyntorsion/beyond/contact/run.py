@@ -209,6 +209,28 @@ class ContactRun:
         """One JSON-ready dict (what ``dyntorsion buckle --contact --json`` prints)."""
         return dict(self.summary)
 
+    def histories(self, *, plectoneme: bool = False) -> dict[str, list]:
+        """The histories at the checks as JSON-ready lists, named as the records in
+        ``data/bench`` and ``data/contact`` name them: ``t`` [s]; ``link_turns``,
+        ``twist_turns``, ``writhe_turns``; contact ``sites``; the deepest overlap
+        ``overlap_over_D``; the twisting moment at s = 0 ``end_moment`` [N m]; the far
+        end's axial position ``end_axial_position`` [m].  ``plectoneme`` adds the
+        plectoneme turns and touching pairs of each recorded centreline
+        (:func:`~.plectoneme.plectoneme_turns` with its default reach)."""
+        h = self.history
+        out = {
+            "t": h["t"].tolist(), "link_turns": h["link"].tolist(),
+            "twist_turns": h["twist"].tolist(), "writhe_turns": h["writhe"].tolist(),
+            "sites": h["sites"].tolist(), "overlap_over_D": h["overlap_over_D"].tolist(),
+            "end_moment": h["end_moment"].tolist(),
+            "end_axial_position": h["r"][:, -1, 2].tolist(),
+        }  # fmt: skip
+        if plectoneme:
+            counts = [plectoneme_turns(r, self.scene.scene.rod.thickness) for r in h["r"]]
+            out["plectoneme_turns"] = [p.turns for p in counts]
+            out["plectoneme_pairs"] = [p.pairs for p in counts]
+        return out
+
     def check(self) -> ContactRun:
         """Raise :class:`PassageError` if the rod passed through itself."""
         if self.stopped.startswith("passage"):
