@@ -12,7 +12,8 @@ import numpy as np
 from ...buckling.simulation import RECORDED
 from ...buckling.stops import STRAIGHT
 from ...genalpha import ConvergenceError, Output, Sources, Stops, integrate
-from ...model.cosserat import Cosserat
+from ...model.cosserat import Cosserat, Params
+from .budget import SchemeBudget
 from .centreline import Reconstruction
 from .law import NO_CONTACT, contact_forces, contact_sites
 from .topology import closed_polygon, link_turns, passage, twist_turns, writhe_turns
@@ -53,6 +54,8 @@ class _Between:
         self.work = {"ends": 0.0, "seed": 0.0, "contact": 0.0, "viscous": 0.0}
         self.power_old = self._powers(y0, np.zeros((n1, 12)))
         self.dashpot, self.de = 0.0, 0.0
+        #: the budget as the scheme keeps it (:mod:`.budget`; the implicit route fills it)
+        self.budget = SchemeBudget(Params(*model.params), ds, self.c.viscous, self.c.viscous_moment)
         self.shapes: list[np.ndarray] = []
         tw0 = twist_turns(y0[:, 8], ds)
         self.lk0 = tw0 + writhe_turns(closed_polygon(self.recon.r))

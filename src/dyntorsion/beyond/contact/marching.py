@@ -254,7 +254,9 @@ def march_implicit(between, system, scheme, newton, grid, y0, left, right, q_see
             out.failed_solves += 1
             return False
         g_t = con.co.g_t  # eq (11): the new rate from the new level
-        w.rate_old[:, :] = (w.y - w.y_old) / (g_t * h) - (1.0 - g_t) / g_t * w.rate_old
+        rate = (w.y - w.y_old) / (g_t * h) - (1.0 - g_t) / g_t * w.rate_old
+        between.budget.step(con.co, h, w.y_old, w.y, w.rate_old, rate, q_seed, state["q_old"], q_new)
+        w.rate_old[:, :] = rate
         w.y_old[:, :] = w.y
         state["q_old"] = q_new
         between.pending = q_new
