@@ -71,6 +71,7 @@ def buckle_contact(args: argparse.Namespace, scene: Scene) -> int:
     else:
         for key in ("scene", "stopped", "dt_run", "first_contact_t", "max_penetration_over_D",
                     "contact_sites", "plectoneme_turns", "link_turns", "twist_turns", "writhe_turns",
-                    "max_link_gap_turns", "max_cell_bend", "energy_residual"):  # fmt: skip
+                    "max_link_gap_turns", "max_cell_bend", "energy_residual",
+                    "energy_residual_scheme"):  # fmt: skip
             print(f"{key:<24} {result[key]}")
     return 0 if result["stopped"] == "t_end" else 1
