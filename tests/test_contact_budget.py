@@ -93,7 +93,9 @@ def test_the_lines_of_a_run_past_contact_close_to_round_off_with_the_midpoint_ru
     assert lines["dissipation"] > 0.0 and lines["contact"] < 0.0
     assert (lines["viscous"] < 0.0) == (viscous > 0.0)
     assert abs(lines["rest"]) < 1e-9 * lines["ends"]
-    assert res["energy_residual_scheme"] == pytest.approx(-lines["rest"] / (lines["ends"] + lines["seed"]))
+    assert res["energy_residual_scheme"] == pytest.approx(
+        -lines["rest"] / (lines["ends"] + lines["seed"])
+    )
 
 
 def test_the_trapezoidal_rule_leaves_its_own_residue():
@@ -113,7 +115,9 @@ def budget_record(current_record):
     return current_record("contact/budget.json", "contact_budget.py")
 
 
-def test_the_record_s_lines_close_with_the_midpoint_rule_and_not_with_the_trapezoidal(budget_record):
+def test_the_record_s_lines_close_with_the_midpoint_rule_and_not_with_the_trapezoidal(
+    budget_record,
+):
     """data/contact/budget.json (benchmarks/contact_budget.py): every run went through
     contact; with the midpoint rule what is left is round-off, with the paper's
     trapezoidal rule a residue of about 1-2 % of the work (measured 2.2 % and 1.1 %)."""

@@ -64,9 +64,9 @@ def rate_identity(co: Coefficients, h: float, ew: np.ndarray, y_old, y_new, v_ol
     diss = (0.5 - b) * (0.5 - a) * (g - 0.5) * h * h * float(np.sum(ew * dv * dv))
 
     def G(y, v):
-        return (0.5 - b) * h * float(np.sum(ew * y * v)) + 0.5 * (0.5 - b) * (0.5 - a) * h * h * float(
-            np.sum(ew * v * v)
-        )
+        return (0.5 - b) * h * float(np.sum(ew * y * v)) + 0.5 * (0.5 - b) * (
+            0.5 - a
+        ) * h * h * float(np.sum(ew * v * v))
 
     return paired, d_e, diss, G(y_new, v_new) - G(y_old, v_old)
 
@@ -102,7 +102,9 @@ class SchemeBudget:
         """Add the step from (y_old, v_old) to (y_new, v_new) of length h; the sources
         are the nodal q of eq (7) (q_seed constant, the contact's at the two levels)."""
         if not (co.a_s == 0.5 and co.b_s == 0.5):
-            raise ValueError(f"the budget's pairing needs lam_s = -1 (a_s = b_s = 1/2), got a_s={co.a_s}")
+            raise ValueError(
+                f"the budget's pairing needs lam_s = -1 (a_s = b_s = 1/2), got a_s={co.a_s}"
+            )
         ds, b = self.ds, co.b_t
         cy = [_cells(x, 0.5) for x in (y_old, y_new, v_old, v_new)]
         paired, d_e, diss, d_g = rate_identity(co, h, self._ew, *cy)

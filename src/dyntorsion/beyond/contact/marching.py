@@ -255,7 +255,9 @@ def march_implicit(between, system, scheme, newton, grid, y0, left, right, q_see
             return False
         g_t = con.co.g_t  # eq (11): the new rate from the new level
         rate = (w.y - w.y_old) / (g_t * h) - (1.0 - g_t) / g_t * w.rate_old
-        between.budget.step(con.co, h, w.y_old, w.y, w.rate_old, rate, q_seed, state["q_old"], q_new)
+        between.budget.step(
+            con.co, h, w.y_old, w.y, w.rate_old, rate, q_seed, state["q_old"], q_new
+        )
         w.rate_old[:, :] = rate
         w.y_old[:, :] = w.y
         state["q_old"] = q_new

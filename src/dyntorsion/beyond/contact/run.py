@@ -313,8 +313,11 @@ def run_contact_scene(
         },  # fmt: skip
         "energy_residual": float(numerical / w_in) if w_in else 0.0,
         "energy_scheme": between.budget.as_dict() if c.implicit else None,
-        "energy_residual_scheme": (-between.budget.rest / (between.budget.ends + between.budget.seed)
-                                   if c.implicit else None),  # fmt: skip
+        "energy_residual_scheme": (
+            -between.budget.rest / (between.budget.ends + between.budget.seed)
+            if c.implicit
+            else None
+        ),  # fmt: skip
         "drift": between.recon.drift.as_dict(),
         "wall_time": time.perf_counter() - wall,
     }
