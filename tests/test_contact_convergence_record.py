@@ -100,21 +100,22 @@ def test_the_scheme_s_own_budget_splits_the_nodal_residual(record):
     3.3 s: the scheme's numerical dissipation is zero at the paper's lambda_inf = -1 and
     grows as lambda_inf leaves it, but stays a fraction of the nodal residual (measured
     at -0.8: D 0.40 % against 2.13 %); what the lines leave (the trapezoidal rule's
-    residue) is within 1 % of the work on every run to 3.3 s."""
+    residue) is within 1 % of the work on every run that reached 3.3 s (measured 0.08,
+    -0.05, -0.17 % on N = 800; the N = 200 run ends under-resolved before it)."""
     runs = {lam: _past(record, 800, lam, 3.3, "time") for lam in (-0.8, -0.9, -1.0)}
     d = [_share(runs[lam], "dissipation") for lam in (-1.0, -0.9, -0.8)]
     assert d[0] == 0.0 < d[1] < d[2]
     assert runs[-0.8]["energy_residual"] > 2.0 * d[2]
     for p in record["past"]:
         r = p["result"]
-        if p["t_end"] == 3.3:
+        if p["t_end"] == 3.3 and r["stopped"] == "t_end":
             assert abs(r["energy_residual_scheme"]) < 0.01, (p["n_cells"], p["lam_t"], p["t_end"])
 
 
 def test_where_the_contact_is_violent_it_does_work_on_the_rod(record):
     """N = 400, lambda_inf = -0.8, to 3.45 s: as the scheme applies it, the contact does
-    positive work on the rod (measured +12.7 % of the work at the ends, against a spring and
-    dashpot law), and the nodes hold more energy than the cell averages (9.0 %): the finding
+    positive work on the rod (measured +10.6 % of the work at the ends, against a spring and
+    dashpot law), and the nodes hold more energy than the cell averages (8.8 %): the finding
     that an energy-consistent contact is to mend (the Past contact page)."""
     r = _past(record, 400, -0.8, 3.45, "time")
     assert _share(r, "contact") > 0.05
