@@ -62,10 +62,10 @@ def _held_until(run: dict, gap: float = 0.01, overlap: float = 0.01) -> float:
 def test_the_link_and_overlap_checks_hold_on_both_grids(record):
     """Both runs to their ends (N = 800 to 17.6 s, the loop closed and coiling; N = 1600 to
     17.5 s): |Lk - Tw - Wr| <= 0.01 turns and the overlap <= 1 % D at every check, no
-    passage.  The energy budget does not meet the issue's 1 %: the line left to the
-    scheme's numerical dissipation was measured 1.4 % (N = 1600) and 5.2 % (N = 800, whose
-    implicit contact forces did +6.3 % of the work at the ends, the Fig 7 page): capped
-    here at 2 % and 6 %."""
+    passage.  Counted at the nodes the energy budget does not meet the issue's 1 %: the
+    residual was measured 1.4 % (N = 1600) and 5.2 % (N = 800, whose implicit contact
+    forces did +6.3 % of the work at the ends in that count, the Fig 7 page): capped here
+    at 2 % and 6 %."""
     caps = {800: 0.06, 1600: 0.02}
     for n, run in _runs(record).items():
         res = run["result"]
@@ -73,6 +73,20 @@ def test_the_link_and_overlap_checks_hold_on_both_grids(record):
         assert _held_until(run) == pytest.approx(res["t_last"])
         assert res["max_penetration_over_D"] < 0.01
         assert 0 < res["energy_residual"] < caps[n]
+
+
+def test_the_scheme_s_lines_close_but_the_contact_gives_energy(record):
+    """Kept as the scheme keeps it (dyntorsion.beyond.contact.budget), the budget closes
+    within 1 % with the scheme's own dissipation on its line (measured: the lines leave
+    0.012 % and 0.11 % of the work on N = 1600 and 800, D 0.49 and 1.16 %), and the finer
+    grid closes it better; but the contact does positive work on the rod (+0.46 and
+    +2.25 %): the energy-consistent contact the Past contact page asks for."""
+    runs = _runs(record)
+    left = {n: abs(run["result"]["energy_residual_scheme"]) for n, run in runs.items()}
+    assert left[1600] < left[800] < 0.01
+    for run in runs.values():
+        lines = run["result"]["energy_scheme"]
+        assert lines["dissipation"] > 0.0 and lines["contact"] > 0.0
 
 
 def test_the_grids_agree_while_the_checks_hold(record):
