@@ -115,7 +115,8 @@ def test_the_torque_rotation_curve_rises_jumps_and_levels_above_the_ply_theory(t
     (within 0.03 N m: the light spin damping's viscous torque, ~0.013 N m), peaks 7.6 % above
     C kappa_cri(T) (late, the delayed instability), falls by 74 % within 5 s, and over the
     first turn after the jump has a median 1.22 times the two-ply plateau; the overlap stays
-    under 1 % of D, the energy budget within 2 % (measured 1.01 %), Lk - Tw - Wr within 0.2
+    under 1 % of D, the energy budget as the scheme keeps it within the issue's 1 %
+    (measured 0.56 %; counted at the nodes 1.01 %, capped at 2 %), Lk - Tw - Wr within 0.2
     turns (measured 0.11: the coarse grid's drift, not met at the issue's 0.01)."""
     th, p = tension["theory"], tension["params"]
     h, out = tension["curve"]["history"], tension["curve"]["result"]
@@ -132,6 +133,7 @@ def test_the_torque_rotation_curve_rises_jumps_and_levels_above_the_ply_theory(t
     assert 1.0 < np.median(M[ply]) / th["ply"]["torque"] < 1.4
     assert out["stopped"] == "t_end" and out["max_penetration_over_D"] < 0.01
     assert abs(out["energy_residual"]) < 0.02 and out["max_link_gap_turns"] < 0.2
+    assert abs(out["energy_residual_scheme"]) < 0.01
     assert 1.0 < abs(out["plectoneme_turns"]) < 2.0
 
 
