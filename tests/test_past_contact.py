@@ -29,6 +29,41 @@ def test_writhe_per_turn_of_a_helix_is_one_minus_cos_of_its_pitch_angle():
     assert T.writhe_turns(T.closed_polygon(mirrored)) == pytest.approx(-w[1], abs=1e-12)
 
 
+def _writhe_numpy(closed: np.ndarray) -> float:
+    """Klenin and Langowski's eq 15 over every non-adjacent pair of segments at once (numpy):
+    an independent evaluation of what ``topology._writhe`` computes pair by pair."""
+    q = np.vstack([closed, closed[:1]])
+    m = closed.shape[0]
+    i, j = np.triu_indices(m, 2)
+    keep = ~((i == 0) & (j == m - 1))
+    i, j = i[keep], j[keep]
+    x1, x2, x3, x4 = q[i], q[i + 1], q[j], q[j + 1]
+
+    def unit(a, b):
+        c = np.cross(a, b)
+        n = np.linalg.norm(c, axis=1, keepdims=True)
+        return c / np.where(n == 0, 1.0, n), n[:, 0] > 0
+
+    r13, r14, r23, r24 = x3 - x1, x4 - x1, x3 - x2, x4 - x2
+    (n1, k1), (n2, k2), (n3, k3), (n4, k4) = (unit(r13, r14), unit(r14, r24), unit(r24, r23),
+                                              unit(r23, r13))  # fmt: skip
+    dot = lambda a, b: np.arcsin(np.clip(np.sum(a * b, axis=1), -1.0, 1.0))  # noqa: E731
+    om = dot(n1, n2) + dot(n2, n3) + dot(n3, n4) + dot(n4, n1)
+    sign = np.sign(np.sum(np.cross(x4 - x3, x2 - x1) * r13, axis=1))
+    return float(np.sum(np.where(k1 & k2 & k3 & k4, om * sign, 0.0)) / (2 * np.pi))
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_compiled_writhe_agrees_with_the_pairs_evaluated_at_once(seed):
+    """The compiled kernel (scalar arithmetic, one pair at a time) against the same formula
+    over all pairs in numpy, on random walks closed as the rod is closed."""
+    rng = np.random.default_rng(seed)
+    for n in (3, 40, 300):
+        closed = T.closed_polygon(np.cumsum(rng.normal(size=(n, 3)), axis=0))
+        ref = _writhe_numpy(closed)
+        assert T.writhe_turns(closed) == pytest.approx(ref, rel=1e-12, abs=1e-12)
+
+
 def test_a_plane_curve_and_the_straight_rod_have_no_writhe():
     th = np.linspace(0, 2 * np.pi, 300, endpoint=False)
     plane = np.c_[np.cos(th) * (1 + 0.3 * np.cos(3 * th)), np.sin(th), 0 * th]

@@ -71,8 +71,9 @@ def rate_identity(co: Coefficients, h: float, ew: np.ndarray, y_old, y_new, v_ol
     return paired, d_e, diss, G(y_new, v_new) - G(y_old, v_old)
 
 
-def _cells(x: np.ndarray, w: float) -> np.ndarray:
-    return (1.0 - w) * x[1:] + w * x[:-1]
+def _cells(x: np.ndarray) -> np.ndarray:
+    """The cell averages of nodal values (eq 12 at lambda_s = -1: both nodes weigh 1/2)."""
+    return 0.5 * x[1:] + 0.5 * x[:-1]
 
 
 @dataclass
@@ -106,11 +107,11 @@ class SchemeBudget:
                 f"the budget's pairing needs lam_s = -1 (a_s = b_s = 1/2), got a_s={co.a_s}"
             )
         ds, b = self.ds, co.b_t
-        cy = [_cells(x, 0.5) for x in (y_old, y_new, v_old, v_new)]
+        cy = [_cells(x) for x in (y_old, y_new, v_old, v_new)]
         paired, d_e, diss, d_g = rate_identity(co, h, self._ew, *cy)
         paired, d_e, diss, d_g = (ds * x for x in (paired, d_e, diss, d_g))
         y_star = (1.0 - b) * y_new + b * y_old
-        z_cell = _cells(y_star * self._z, 0.5)
+        z_cell = _cells(y_star * self._z)
 
         def flux(y):  # u.n + w.m at a node
             m = np.array([self.params.B1, self.params.B2, self.params.C]) * y[6:9]
@@ -119,11 +120,11 @@ class SchemeBudget:
         ends = h * (flux(y_star[-1]) - flux(y_star[0]))
 
         def work(q):  # -h sum z*.<q>* ds (q already the time combination)
-            return -h * ds * float(np.sum(z_cell * _cells(q, 0.5)))
+            return -h * ds * float(np.sum(z_cell * _cells(q)))
 
         contact = work((1.0 - b) * q_new + b * q_old)
         seed = work(q_seed)
-        cell = _cells(y_star, 0.5)
+        cell = _cells(y_star)
         viscous = -h * ds * float(self.gamma_u * np.sum(cell[:, 0:3] ** 2)
                                   + self.gamma_w * np.sum(cell[:, 3:6] ** 2))  # fmt: skip
         self.energy_mid += d_e

@@ -72,13 +72,20 @@ def _asin(x):
 @jit
 def _solid_angle(p, i, q, j):
     """Signed solid angle Omega of segments p[i]->p[i+1] and q[j]->q[j+1] (Klenin and
-    Langowski 2000, eq 15): the pair's contribution to the Gauss integral is Omega/4 pi."""
-    x1, x2, x3, x4 = p[i], p[i + 1], q[j], q[j + 1]
-    r13, r14, r23, r24 = x3 - x1, x4 - x1, x3 - x2, x4 - x2
-    n1x, n1y, n1z, ok1 = _unit_cross(r13[0], r13[1], r13[2], r14[0], r14[1], r14[2])
-    n2x, n2y, n2z, ok2 = _unit_cross(r14[0], r14[1], r14[2], r24[0], r24[1], r24[2])
-    n3x, n3y, n3z, ok3 = _unit_cross(r24[0], r24[1], r24[2], r23[0], r23[1], r23[2])
-    n4x, n4y, n4z, ok4 = _unit_cross(r23[0], r23[1], r23[2], r13[0], r13[1], r13[2])
+    Langowski 2000, eq 15): the pair's contribution to the Gauss integral is Omega/4 pi.
+    (Scalar arithmetic: no array is made per pair.)"""
+    x1x, x1y, x1z = p[i, 0], p[i, 1], p[i, 2]
+    x2x, x2y, x2z = p[i + 1, 0], p[i + 1, 1], p[i + 1, 2]
+    x3x, x3y, x3z = q[j, 0], q[j, 1], q[j, 2]
+    x4x, x4y, x4z = q[j + 1, 0], q[j + 1, 1], q[j + 1, 2]
+    a13x, a13y, a13z = x3x - x1x, x3y - x1y, x3z - x1z
+    a14x, a14y, a14z = x4x - x1x, x4y - x1y, x4z - x1z
+    a23x, a23y, a23z = x3x - x2x, x3y - x2y, x3z - x2z
+    a24x, a24y, a24z = x4x - x2x, x4y - x2y, x4z - x2z
+    n1x, n1y, n1z, ok1 = _unit_cross(a13x, a13y, a13z, a14x, a14y, a14z)
+    n2x, n2y, n2z, ok2 = _unit_cross(a14x, a14y, a14z, a24x, a24y, a24z)
+    n3x, n3y, n3z, ok3 = _unit_cross(a24x, a24y, a24z, a23x, a23y, a23z)
+    n4x, n4y, n4z, ok4 = _unit_cross(a23x, a23y, a23z, a13x, a13y, a13z)
     if not (ok1 and ok2 and ok3 and ok4):
         return 0.0  # the two segments lie on one line or meet: no solid angle
     om = (
@@ -87,11 +94,12 @@ def _solid_angle(p, i, q, j):
         + _asin(n3x * n4x + n3y * n4y + n3z * n4z)
         + _asin(n4x * n1x + n4y * n1y + n4z * n1z)
     )
-    r34, r12 = x4 - x3, x2 - x1
-    c0 = r34[1] * r12[2] - r34[2] * r12[1]
-    c1 = r34[2] * r12[0] - r34[0] * r12[2]
-    c2 = r34[0] * r12[1] - r34[1] * r12[0]
-    s = c0 * r13[0] + c1 * r13[1] + c2 * r13[2]
+    a34x, a34y, a34z = x4x - x3x, x4y - x3y, x4z - x3z
+    a12x, a12y, a12z = x2x - x1x, x2y - x1y, x2z - x1z
+    c0 = a34y * a12z - a34z * a12y
+    c1 = a34z * a12x - a34x * a12z
+    c2 = a34x * a12y - a34y * a12x
+    s = c0 * a13x + c1 * a13y + c2 * a13z
     return om if s > 0.0 else (-om if s < 0.0 else 0.0)
 
 
