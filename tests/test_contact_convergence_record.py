@@ -7,6 +7,8 @@ import math
 
 import pytest
 
+from dyntorsion.beyond.contact.budget import share
+
 
 @pytest.fixture(scope="module")
 def record(current_record):
@@ -91,8 +93,7 @@ def test_the_first_contact_is_the_loop_on_an_end_fixture(record):
 
 
 def _share(r: dict, key: str) -> float:
-    s = r["energy_scheme"]
-    return s[key] / (s["ends"] + s["seed"])
+    return share(r["energy_scheme"], key)
 
 
 def test_the_scheme_s_own_budget_splits_the_nodal_residual(record):

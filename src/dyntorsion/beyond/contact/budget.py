@@ -32,6 +32,7 @@ with its counterpart: the contact's work against the law's stored energy and das
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -39,7 +40,8 @@ import numpy as np
 from ...genalpha.scheme import Coefficients
 from ...model.cosserat import Params
 
-__all__ = ["SchemeBudget", "energy_weights", "conjugate", "rate_identity"]
+__all__ = ["SchemeBudget", "energy_weights", "conjugate", "rate_identity", "work_done", "share",
+           "nodal_share"]  # fmt: skip
 
 
 def energy_weights(p: Params) -> np.ndarray:
@@ -140,3 +142,21 @@ class SchemeBudget:
         keys = ("energy_mid", "dissipation", "modified", "ends", "contact", "seed", "viscous",
                 "rest")  # fmt: skip
         return {k: float(getattr(self, k)) for k in keys}
+
+
+def work_done(lines: Mapping[str, float]) -> float:
+    """The work done on the rod as the scheme applies it, at the ends and by the seed: what
+    every line of a run's ``energy_scheme`` is read against."""
+    return lines["ends"] + lines["seed"]
+
+
+def share(lines: Mapping[str, float], key: str) -> float:
+    """One line of a run's ``energy_scheme`` over the work done (:func:`work_done`); a run's
+    ``energy_residual_scheme`` is ``-share(lines, "rest")``."""
+    return lines[key] / work_done(lines)
+
+
+def nodal_share(energy: Mapping[str, float], key: str) -> float:
+    """One line of a run's nodal ``energy`` (powers at the levels) over the work done at
+    the ends and by the seed as the nodes count it."""
+    return energy[key] / (energy["work_ends"] + energy["work_seed"])
