@@ -20,8 +20,15 @@ the same load): PyElastica's plectoneme scene (``benchmarks/plectoneme_dyntorsio
 ~12 s), after one run of each that compiles its kernels, and prints the seconds per contact step, the run's wall time and its writhe at the
 end (the same to rounding in both).
 
-Run: ``python benchmarks/bench_contact.py [--baseline 99c8d9e] [--rounds R]`` (99c8d9e: the
-contact step before the sparse LU and the compiled gathering).
+With ``--writhe-baseline COMMIT`` it times the writhe of a coiled centreline (a helix
+of 4 turns closed as the rod is, :mod:`dyntorsion.beyond.contact.topology`, computed at
+every check of a run past contact) on N = 200, 800 and 1600 segments with this checkout's
+kernel and COMMIT's, in alternating subprocesses, and prints both sums (the same bit for
+bit since the scalar kernel: 0ef5509a is the kernel before it).
+
+Run: ``python benchmarks/bench_contact.py [--baseline 99c8d9e] [--rounds R]
+[--writhe-baseline 0ef5509a]`` (99c8d9e: the contact step before the sparse LU and the
+compiled gathering).
 """
 
 from __future__ import annotations
@@ -129,10 +136,57 @@ def scene_against(baseline: str, rounds: int) -> None:
               f"run {wall:.1f} s, writhe at 30 s {runs[0]['writhe']:.6f} turns")  # fmt: skip
 
 
+WRITHE = r"""
+import json, statistics, sys, time
+sys.path.insert(0, sys.argv[1])
+import numpy as np
+from dyntorsion.beyond.contact.topology import closed_polygon, writhe_turns
+out = {}
+for n in (200, 800, 1600):
+    th = np.linspace(0.0, 8 * np.pi, n + 1)
+    closed = closed_polygon(np.c_[0.1 * np.cos(th) - 0.1, 0.1 * np.sin(th), 0.05 * th])
+    value = writhe_turns(closed)
+    times = []
+    for _ in range(5):
+        t0 = time.perf_counter()
+        writhe_turns(closed)
+        times.append(time.perf_counter() - t0)
+    out[n] = [1e3 * statistics.median(times), value]
+print(json.dumps(out))
+"""
+
+
+def writhe_against(baseline: str, rounds: int) -> None:
+    """The writhe kernel of this checkout and of ``baseline`` (module docstring)."""
+    with tempfile.TemporaryDirectory() as tmp:
+        wt = Path(tmp) / "baseline"
+        subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "--detach", "-q", str(wt),
+                        baseline], check=True)  # fmt: skip
+        try:
+            out = {"this checkout": [], f"baseline {baseline}": []}
+            for _ in range(max(rounds, 1)):
+                for key, src in zip(out, (ROOT / "src", wt / "src"), strict=True):
+                    run = subprocess.run([sys.executable, "-c", WRITHE, str(src)], check=True,
+                                         capture_output=True, text=True)  # fmt: skip
+                    out[key].append(json.loads(run.stdout.strip().splitlines()[-1]))
+        finally:
+            subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force", str(wt)])
+    print(f"The writhe of a helix of 4 turns (medians of 5 calls; {max(rounds, 1)} round(s)):")
+    keys = list(out)
+    for n in out[keys[0]][0]:
+        ms = {k: statistics.median(r[n][0] for r in out[k]) for k in keys}
+        vals = {k: out[k][0][n][1] for k in keys}
+        same = "the same bit for bit" if len(set(vals.values())) == 1 else "DIFFERENT"
+        print(f"  N = {n:>5}: " + ", ".join(f"{k} {ms[k]:.1f} ms" for k in keys)
+              + f" (ratio {ms[keys[1]] / ms[keys[0]]:.2f}); writhe {vals[keys[0]]:.12f} turns, "
+              f"{same}")  # fmt: skip
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--baseline", help="also run a scene past contact with this commit's code")
     ap.add_argument("--rounds", type=int, default=1, help="alternating runs of each (default 1)")
+    ap.add_argument("--writhe-baseline", help="also time the writhe kernel against this commit's")
     args = ap.parse_args()
     print(f"dyntorsion {__version__}, python {platform.python_version()}, the sparse LU from "
           f"{sparse_from(100)} / {sparse_from(400)} / {sparse_from(800)} columns at N = 100 / 400 / 800")  # fmt: skip
@@ -155,6 +209,8 @@ def main() -> int:
                   f"{diff:>10.1e}", flush=True)  # fmt: skip
     if args.baseline:
         scene_against(args.baseline, args.rounds)
+    if args.writhe_baseline:
+        writhe_against(args.writhe_baseline, args.rounds)
     return 0
 
 
