@@ -133,3 +133,18 @@ def test_the_record_s_lines_close_with_the_midpoint_rule_and_not_with_the_trapez
             assert 1e-3 < left < 0.05
         assert (lines["dissipation"] == 0.0) == (r["lam_t"] == -1.0)
         assert (lines["viscous"] < 0.0) == (r["viscous"] > 0.0)
+
+
+def test_every_record_s_scheme_residual_is_its_rest_over_the_work(current_record):
+    """``share`` reads a run's lines as the run itself does: ``energy_residual_scheme`` is
+    ``-share(energy_scheme, "rest")`` exactly, and the nodal ``energy_residual`` is the
+    nodal dissipation over the work as :func:`nodal_share` counts it."""
+    from dyntorsion.beyond.contact.budget import nodal_share, share
+
+    rec = current_record("contact/first_contact.json", "contact_convergence.py")
+    for p in rec["past"]:
+        r = p["result"]
+        assert r["energy_residual_scheme"] == -share(r["energy_scheme"], "rest")
+        assert r["energy_residual"] == pytest.approx(
+            nodal_share(r["energy"], "numerical_dissipation"), rel=1e-12
+        )
