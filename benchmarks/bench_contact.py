@@ -109,24 +109,35 @@ print(json.dumps({"wall": time.perf_counter() - t0, "writhe": res["writhe_turns"
 """
 
 
-def scene_against(baseline: str, rounds: int) -> None:
-    """The plectoneme scene with this checkout's code and ``baseline``'s (module docstring)."""
+def alternate(
+    baseline: str, code: str, args: list[str], rounds: int, warm: list[str] | None = None
+) -> dict[str, list[dict]]:
+    """``code`` run with this checkout's ``src`` and ``baseline``'s (a temporary git
+    worktree) in alternating subprocesses, ``rounds`` times each, after one run of each
+    with ``warm`` (compiling its kernels) when given: the JSON each printed last."""
     with tempfile.TemporaryDirectory() as tmp:
         wt = Path(tmp) / "baseline"
         subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "--detach", "-q", str(wt),
                         baseline], check=True)  # fmt: skip
+        trees = (ROOT / "src", wt / "src")
         try:
             out = {"this checkout": [], f"baseline {baseline}": []}
-            for src in (ROOT / "src", wt / "src"):  # compile each tree's kernels first
-                subprocess.run([sys.executable, "-c", SCENE, str(src), BENCH, "9.5"], check=True,
+            for src in trees if warm is not None else ():
+                subprocess.run([sys.executable, "-c", code, str(src), *warm], check=True,
                                capture_output=True)  # fmt: skip
-            for _ in range(rounds):
-                for key, src in zip(out, (ROOT / "src", wt / "src"), strict=True):
-                    run = subprocess.run([sys.executable, "-c", SCENE, str(src), BENCH, "30"],
+            for _ in range(max(rounds, 1)):
+                for key, src in zip(out, trees, strict=True):
+                    run = subprocess.run([sys.executable, "-c", code, str(src), *args],
                                          check=True, capture_output=True, text=True)  # fmt: skip
                     out[key].append(json.loads(run.stdout.strip().splitlines()[-1]))
         finally:
             subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force", str(wt)])
+    return out
+
+
+def scene_against(baseline: str, rounds: int) -> None:
+    """The plectoneme scene with this checkout's code and ``baseline``'s (module docstring)."""
+    out = alternate(baseline, SCENE, [BENCH, "30"], rounds, warm=[BENCH, "9.5"])
     print("PyElastica's plectoneme scene, N = 100, dt = 0.02 s, to 30 s (medians of "
           f"{rounds} alternating runs):")  # fmt: skip
     for key, runs in out.items():
@@ -158,19 +169,7 @@ print(json.dumps(out))
 
 def writhe_against(baseline: str, rounds: int) -> None:
     """The writhe kernel of this checkout and of ``baseline`` (module docstring)."""
-    with tempfile.TemporaryDirectory() as tmp:
-        wt = Path(tmp) / "baseline"
-        subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "--detach", "-q", str(wt),
-                        baseline], check=True)  # fmt: skip
-        try:
-            out = {"this checkout": [], f"baseline {baseline}": []}
-            for _ in range(max(rounds, 1)):
-                for key, src in zip(out, (ROOT / "src", wt / "src"), strict=True):
-                    run = subprocess.run([sys.executable, "-c", WRITHE, str(src)], check=True,
-                                         capture_output=True, text=True)  # fmt: skip
-                    out[key].append(json.loads(run.stdout.strip().splitlines()[-1]))
-        finally:
-            subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force", str(wt)])
+    out = alternate(baseline, WRITHE, [], rounds)
     print(f"The writhe of a helix of 4 turns (medians of 5 calls; {max(rounds, 1)} round(s)):")
     keys = list(out)
     for n in out[keys[0]][0]:
