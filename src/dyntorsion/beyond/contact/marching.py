@@ -22,6 +22,8 @@ from dataclasses import dataclass
 
 import numba
 import numpy as np
+from numba.core.types import WrapperAddressProtocol
+from numba.experimental.function_type import _get_wrapper_address
 
 from ..._numba import A1, A2, JACOBIAN_SIGNATURE, LOAD_SIGNATURE, jit
 from ...buckling.stops import STRAIGHT
@@ -82,6 +84,26 @@ def _free_newton(F, dF, con, gL, gR, w, fac, opts):
     return solve_step(F, dF, con, gL, gR, w, fac, opts).status
 
 
+class _Address(WrapperAddressProtocol):
+    """A compiled function handed to the kernels by its address, looked up once.
+
+    A dispatcher passed from Python as a first-class function argument is looked up in
+    LLVM's tables at every call (about 40 us each for F and dF); the march makes several
+    such calls a step, which was about a tenth of a contact run (a = 16, N = 400,
+    cProfile).  Numba's wrapper address protocol takes the address instead; the same
+    compiled code runs, so the numbers are the same."""
+
+    def __init__(self, dispatcher, sig):
+        self.dispatcher, self.sig = dispatcher, sig
+        self.address = _get_wrapper_address(dispatcher, sig)
+
+    def __wrapper_address__(self) -> int:
+        return self.address
+
+    def signature(self):
+        return self.sig
+
+
 @dataclass
 class Marched:
     """What :func:`march_implicit` returns: the last level, the steps taken, how it ended,
@@ -114,7 +136,7 @@ class Marched:
         }
 
 
-def _contact_newton(system, con, w, fac, gL, gR, sp, pairs, R, V_old, weights, opts):
+def _contact_newton(system, F, dF, con, w, fac, gL, gR, sp, pairs, R, V_old, weights, opts):
     """Newton for the step with the contact's source (module docstring) from w.y, a full
     Jacobian at every iteration and a backtracking on the RMS residual (halving the
     correction up to 5 times while it grows); returns (converged, iterations, the
@@ -127,7 +149,7 @@ def _contact_newton(system, con, w, fac, gL, gR, sp, pairs, R, V_old, weights, o
     def rms(v):
         return float(np.sqrt(np.mean(v * v)))
 
-    res, pivot = _residual_factor(system.F, system.dF, con, gL, gR, w, fac)
+    res, pivot = _residual_factor(F, dF, con, gL, gR, w, fac)
     for it in range(1, opts.max_iter + 1):
         src = contact_source(sp, pairs, R, V_old, w_old, y, weights, nf, nbl, rs, ys)
         add_to_residual(r, src.q, sp, nf, nbl, rs)
@@ -147,14 +169,14 @@ def _contact_newton(system, con, w, fac, gL, gR, sp, pairs, R, V_old, weights, o
         lam = 1.0
         for _ in range(6):
             axpy_scaled(y, lam, dx, ys, yt)
-            _residual_only(system.F, system.dF, con, gL, gR, w)
+            _residual_only(F, dF, con, gL, gR, w)
             trial = contact_source(sp, pairs, R, V_old, w_old, yt, weights, nf, nbl, rs, ys, False)
             add_to_residual(rt, trial.q, sp, nf, nbl, rs)
             if rms(rt) < res:
                 break
             lam *= 0.5
         y[:, :] = yt
-        res, pivot = _residual_factor(system.F, system.dF, con, gL, gR, w, fac)
+        res, pivot = _residual_factor(F, dF, con, gL, gR, w, fac)
     return False, opts.max_iter, src
 
 
@@ -198,6 +220,7 @@ def march_implicit(between, system, scheme, newton, grid, y0, left, right, q_see
                                between.c.smooth)  # fmt: skip
         return levels[j]
 
+    F, dF = _Address(system.F, LOAD_SIGNATURE), _Address(system.dF, JACOBIAN_SIGNATURE)
     opts = newton.options()
     retry = opts._replace(reuse=False, rate_predictor=not opts.rate_predictor)
     contact_opts = opts._replace(max_iter=min(opts.max_iter, 12))
@@ -226,22 +249,22 @@ def march_implicit(between, system, scheme, newton, grid, y0, left, right, q_see
             w.factored[0] = 0  # the factors held are of the other step length
             state["level"] = lv
         con, h = lv.con, lv.h
-        _prepare(system.F, con, w, q_seed, state["q_old"], zeros)
+        _prepare(F, con, w, q_seed, state["q_old"], zeros)
         gL, gR = left.at(np.array([t_new]))[0], right.at(np.array([t_new]))[0]
         w.y[:, :] = w.y_old
         q_new, ok = zeros, True
         if near.nodes.shape[0] == 0:
-            if _free_newton(system.F, system.dF, con, gL, gR, w, fac, opts) != 0:
+            if _free_newton(F, dF, con, gL, gR, w, fac, opts) != 0:
                 w.y[:, :] = w.y_old + h * w.rate_old
                 w.factored[0] = 0
-                ok = _free_newton(system.F, system.dF, con, gL, gR, w, fac, retry) == 0
+                ok = _free_newton(F, dF, con, gL, gR, w, fac, retry) == 0
             out.free_seconds += time.perf_counter() - tick
         else:
             R, _ = recon.frames(True)
             V_old = motion()["V"]
             w.y[:, :] = w.y_old + h * w.rate_old  # the rate predictor
             ok, its, src = _contact_newton(
-                system, con, w, fac, gL, gR, lv.sp, near, R, V_old, weights, contact_opts
+                system, F, dF, con, w, fac, gL, gR, lv.sp, near, R, V_old, weights, contact_opts
             )
             q_new = src.q
             out.contact_steps += 1
