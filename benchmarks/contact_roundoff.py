@@ -130,23 +130,29 @@ def committed(name: str, data: Path = HERE.parent / "data") -> dict:
     """The numbers of run ``name`` in the committed record it comes from (:data:`RUNS`):
     those of :data:`QUANTITIES` the record keeps."""
 
-    def read(rel):
-        return json.loads((data / rel).read_text())
+    def find(rel, part, key, want):
+        rows = json.loads((data / rel).read_text()).get(part, [])
+        for row in rows:
+            if key(row) == want:
+                return row
+        raise LookupError(
+            f"run {name!r}: {rel} holds no {part} entry {want!r} (a record not "
+            f"written yet, or half written): compute that record first"
+        )
 
     if name.startswith("a16-"):
-        rec = read("contact/first_contact.json")
+        rel = "contact/first_contact.json"
         if name == "a16-first-contact-N400":
-            res = next(r for r in rec["runs"] if (r["n_cells"], r["max_step"]) == (400, 2.5e-4))
+            res = find(rel, "runs", lambda r: (r["n_cells"], r["max_step"]), (400, 2.5e-4))
         else:
             n = 400 if name.endswith("400") else 800
-            res = next(p["result"] for p in rec["past"]
-                       if (p["n_cells"], p["lam_t"], p["t_end"], p["route"]) == (n, -0.8, 3.3, "time"))  # fmt: skip
+            res = find(rel, "past", lambda p: (p["n_cells"], p["lam_t"], p["t_end"], p["route"]),
+                       (n, -0.8, 3.3, "time"))["result"]  # fmt: skip
     elif name == "pyelastica-scene-N100-20s":
-        row = next(r for r in read("bench/plectoneme_matched.json")["dyntorsion"] if r["n"] == 100)
+        row = find("bench/plectoneme_matched.json", "dyntorsion", lambda r: r["n"], 100)
         res = {"writhe_turns": row["writhe"], "t_last": row["t_last"], "stopped": row["stopped"]}
     elif name == "fig07-continued-N800":
-        res = next(r["result"] for r in read("contact/fig07_continued.json")["runs"]
-                   if r["n_cells"] == 800)  # fmt: skip
+        res = find("contact/fig07_continued.json", "runs", lambda r: r["n_cells"], 800)["result"]
     else:
         raise ValueError(f"run name={name!r}; allowed: {[r[0] for r in RUNS]}")
     return {q: res[q] for q in (*QUANTITIES, "stopped") if q in res}

@@ -1,5 +1,6 @@
 """The contact inside the implicit step (dyntorsion.beyond.contact.implicit): the Jacobian
-columns are the derivative of the contact's residual, the Woodbury solve on the banded
+(C5: rank-one terms of the pairs and the frames' blocks) is the derivative of the contact's
+residual, the blocks in the band give the same matrix, the Woodbury solve on the banded
 factors and the sparse LU (dyntorsion.beyond.contact.linear) are the dense solve, the
 candidate pairs are those of the definition, the fixed normal holds a pair apart whatever
 the step."""
@@ -12,6 +13,7 @@ import pytest
 from dyntorsion.beyond.contact.implicit import (
     Pairs,
     StepParams,
+    add_blocks,
     add_to_residual,
     contact_source,
 )
@@ -22,7 +24,7 @@ from dyntorsion.beyond.contact.linear import (
     sparse_solve,
     woodbury_solve,
 )
-from dyntorsion.beyond.contact.marching import _residual_factor
+from dyntorsion.beyond.contact.marching import _factor, _residual_jacobian
 from dyntorsion.genalpha.discrete import setup
 from dyntorsion.genalpha.scheme import Scheme
 from dyntorsion.model.cosserat import Cosserat
@@ -62,31 +64,38 @@ def _case(rng, overlap=2e-5):
 
 
 def test_the_jacobian_columns_are_the_derivative_of_the_contact_residual():
+    """Every frame's block as rank-one terms (band=False): U^T G is the whole Jacobian of
+    the contact's residual, by central differences in every unknown of the nodes in contact,
+    and no other column has any."""
     rng = np.random.default_rng(7)
     sp, pairs, R, V_old, u, weights, rs, ys = _case(rng)
 
     def res(u):
-        src = contact_source(sp, pairs, R, V_old, W_OLD, u, weights, NF, NBL, rs, ys)
+        src = contact_source(sp, pairs, R, V_old, W_OLD, u, weights, NF, NBL, rs, ys, band=False)
         r = np.zeros(NF * (N + 1))
         add_to_residual(r, src.q, sp, NF, NBL, rs)
         return r, src
 
     r0, src = res(u)
-    assert src.active == 2 and src.cols.size == 6 * 6  # nodes 1, 2, 4, 5, 8, 9: u and w
+    J = src.U.T @ src.G
+    # two pairs pressing, and three terms for the frame of each of nodes 1, 2, 4, 5, 8, 9
+    assert src.active == 2 and src.U.shape[0] == 2 + 3 * 6
+    contact_cols = {NF * n + f for n in (1, 2, 4, 5, 8, 9) for f in range(6)}
+    assert not J[:, sorted(set(range(J.shape[1])) - contact_cols)].any()
     spin_part = 0.0
-    for c, col in enumerate(src.cols):
+    for col in sorted(contact_cols):
         node, f = divmod(int(col), NF)
         h = 1e-6
         up, um = u.copy(), u.copy()
         up[node, f] += h * ys[f]
         um[node, f] -= h * ys[f]
         fd = (res(up)[0] - res(um)[0]) / (2 * h)  # per scaled unknown
-        assert np.allclose(fd, src.C[c], rtol=1e-6, atol=1e-7 * np.abs(src.C).max())
+        assert np.allclose(fd, J[:, col], rtol=1e-6, atol=1e-7 * np.abs(J).max())
         if f >= 3:
-            spin_part = max(spin_part, np.abs(src.C[c]).max())
+            spin_part = max(spin_part, np.abs(J[:, col]).max())
     # the spin columns (C4) stand well above the tolerance of the check: a Jacobian
     # without them fails it
-    assert spin_part > 100 * 1e-7 * np.abs(src.C).max()
+    assert spin_part > 100 * 1e-7 * np.abs(J).max()
     # momentum: the pair's forces sum to zero in the lab frame (the fixture takes the rest)
     R_new = rodrigues(0.5 * sp.dt * (u[:, 3:6] + W_OLD)) @ R
     f_lab = -np.einsum("nji,nj->ni", R_new, src.q[:, 0:3]) * weights[:, None]
@@ -104,7 +113,7 @@ def test_the_rounded_clip_acts_only_within_smooth_d_of_touching(overlap, force):
     rng = np.random.default_rng(3)
     sp, pairs, R, V_old, u, weights, rs, ys = _case(rng, overlap=overlap)
     src = contact_source(sp, pairs, R, 0.0 * V_old, W_OLD, 0.0 * u, weights, NF, NBL, rs, ys)
-    assert bool(src.q.any()) is force and (src.cols.size > 0) is force
+    assert bool(src.q.any()) is force and (src.U.shape[0] > 0) is force
 
 
 def _dense(w):
@@ -135,24 +144,28 @@ def test_the_contact_solves_are_the_dense_solve(solver):
     con, w, fac = setup(system, Scheme(), N, rod.L / N, 2.5e-4, left, right, y0, np.zeros_like(y0))
     w.y[:, :] = y0 + 1e-3 * rng.normal(size=y0.shape)
     gL, gR = left.at(np.array([2.5e-4]))[0], right.at(np.array([2.5e-4]))[0]
-    res, pivot = _residual_factor(system.F, system.dF, con, gL, gR, w, fac)
-    assert pivot < 0 and np.isfinite(res)
+    res = _residual_jacobian(system.F, system.dF, con, gL, gR, w)
+    assert _factor(con, w, fac) < 0 and np.isfinite(res)
+    plain = _dense(w)
     law = LawParams(rod.thickness, 2e7, 30.0, rod.L / N, 0.003)
     sp = StepParams(law, 2.5e-4, 0.5, 0.5, 0.5, 1e-3)
     _, pairs, R, V_old, _, weights, _, _ = _case(rng)
     weights = np.full(N + 1, rod.L / N)
-    src = contact_source(sp, pairs, R, V_old, W_OLD, w.y, weights, NF, NBL, con.rscale,
-                         con.yscale)  # fmt: skip
-    assert src.cols.size > 0
-    J = _dense(w)
-    J[:, src.cols] += src.C.T
+    args = (sp, pairs, R, V_old, W_OLD, w.y, weights, NF, NBL, con.rscale, con.yscale)
+    src, whole = contact_source(*args), contact_source(*args, band=False)
+    assert src.U.shape[0] == 2 and src.nodes.size == 6
+    add_blocks(src.nodes, src.turn, w.dF)
+    assert _factor(con, w, fac) < 0
+    J = _dense(w) + src.U.T @ src.G
+    # the frames' blocks in the band are the three rank-one terms a node of band=False
+    assert np.allclose(J, plain + whole.U.T @ whole.G, rtol=0, atol=1e-14 * np.abs(J).max())
     dx = np.empty_like(w.y)
     if solver == "woodbury":
-        woodbury_solve(fac, w.r.copy(), src.C, src.cols, dx)
+        woodbury_solve(fac, w.r.copy(), src.U, src.G, dx)
     else:
-        sparse_solve(w.left, w.A, w.B, w.right, w.r.copy(), src.C, src.cols, dx)
+        sparse_solve(w.left, w.A, w.B, w.right, w.r.copy(), src.U, src.G, dx)
     dense = np.linalg.solve(J, -w.r)
-    # J + C E^T has a condition number of ~2e13 here (spin columns beside velocity
+    # J + U^T G has a condition number of ~2e13 here (spin columns beside velocity
     # columns 1e4 times larger): the backward error is the sound measure, and the forward
     # difference is judged against the solution's size (measured: 2.5e-13 and 8e-13)
     assert np.abs(J @ dx.ravel() + w.r).max() <= 1e-11 * np.abs(w.r).max()
@@ -216,7 +229,7 @@ def test_the_candidate_pairs_are_those_of_the_definition():
 
 
 def test_many_contact_columns_take_the_sparse_lu(monkeypatch):
-    """contact_solve: Woodbury below sparse_from(N) columns, the sparse LU from there; the
+    """contact_solve: Woodbury below sparse_from(N) terms, the sparse LU from there; the
     switch moves up with N (each banded solve of Woodbury costs ~N)."""
     import dyntorsion.beyond.contact.linear as lin
 
@@ -225,7 +238,7 @@ def test_many_contact_columns_take_the_sparse_lu(monkeypatch):
     monkeypatch.setattr(lin, "sparse_solve", lambda *a: called.append("sparse"))
     w = type("W", (), {"left": 0, "A": np.zeros((400, 1, 1)), "B": 0, "right": 0})()
     for m in (sparse_from(400) - 1, sparse_from(400)):
-        contact_solve(w, None, None, None, np.arange(m), None)
+        contact_solve(w, None, None, np.zeros((m, 1)), None, None)
     assert called == ["woodbury", "sparse"]
     assert 100 < sparse_from(100) < sparse_from(800) < 768
 

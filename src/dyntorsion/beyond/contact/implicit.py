@@ -59,10 +59,21 @@ step, as the spatial normal of the lagged law could (it flips when the centrelin
 **Source of eq (7).**  The nodal forces f_a (inertial) enter the linear momentum balance
 as q_a = -R_a f_a / w_a (body components per unit length, w_a = ds, ds/2 at the ends) at
 the new level, with the box scheme's weights (1 - b_t) and, within a cell,
-(1 - b_s, b_s) on its right and left node.  Their Jacobian (C2, C4) has nonzero columns
-only on the velocities and spins of the nodes in contact: 6 m columns (m nodes) added to
-the banded Jacobian of the step, solved by :mod:`.linear` (the Woodbury identity on the
-banded factors for few columns, a sparse LU of the whole matrix for many).
+(1 - b_s, b_s) on its right and left node.  Their Jacobian (C2, C4) has two parts:
+
+    dq = sum_p U_p G_p^T dy + sum_a hat(q_a) turn_a dw_a,                           (C5)
+
+a rank-one term for each pair pressing (its force keeps the direction R n and only its
+magnitude ramp(x) moves, with x linear in the velocities and spins of its four nodes:
+U_p the rows the unit force reaches, G_p the gradient of the magnitude) and a 3 x 3
+block of each node in contact (the frame turning the body components), which couples
+a node's spin to the cells beside it only, so lies inside the band.  The blocks go into
+the banded Jacobian (with the trapezoidal quadrature, into its nodal dF, where they take
+the cells' weights of q_a; with the midpoint one, as three rank-one terms each) and the
+rank-one terms to :mod:`.linear` (the Woodbury identity on the banded factors for few,
+a sparse LU of the whole matrix for many): one column a pair instead of six for each of
+its (up to four) nodes.  Measured (a = 16, N = 400 to 3.45 s, cProfile): the banded
+solves of the columns were 37 % of the run with six columns a node.
 """
 
 from __future__ import annotations
@@ -244,14 +255,17 @@ def _forces(sp: StepParams, pairs: Pairs, V_old, V_new, f, slope):
 
 
 class Source(NamedTuple):
-    """The contact at one iterate: the source q (N+1, nf) of eq (7) at the new level, the
-    Jacobian columns ``C`` (3m x rows of the scaled residual: one column per row) on the
-    scaled unknowns ``cols`` (3m flat indices), and the largest predicted overlap, the stored energy and
-    the dashpots' power of the pairs."""
+    """The contact at one iterate: the source q (N+1, nf) of eq (7) at the new level, and its
+    Jacobian in the scaled rows and unknowns as (C5): the sum of the outer products
+    ``U[k] G[k]^T`` (one per pair pressing, rank one) and of the blocks ``turn[m]`` =
+    dq_a / dw_a of the nodes ``nodes[m]`` (physical units, added to the banded Jacobian);
+    the largest predicted overlap, the stored energy and the dashpots' power of the pairs."""
 
     q: np.ndarray
-    C: np.ndarray
-    cols: np.ndarray
+    U: np.ndarray  # (k, rows of the scaled residual)
+    G: np.ndarray  # (k, scaled unknowns)
+    nodes: np.ndarray  # (m,)
+    turn: np.ndarray  # (m, 3, 3)
     overlap: float
     energy: float
     power: float
@@ -259,10 +273,12 @@ class Source(NamedTuple):
 
 
 def contact_source(sp: StepParams, pairs: Pairs, R_old, V_old, w_old, y_new, weights, nf, nbl,
-                   rscale, yscale, want_jac: bool = True) -> Source:  # fmt: skip
-    """The contact source and its Jacobian columns (module docstring, C1-C2) at the iterate
-    y_new (body velocities u = y[:, 0:3], spins w = y[:, 3:6]); ``R_old``, ``V_old`` and
-    ``w_old`` the frames, lab velocities and spins of the known level."""
+                   rscale, yscale, want_jac: bool = True, band: bool = True) -> Source:  # fmt: skip
+    """The contact source and its Jacobian (module docstring, C1-C5) at the iterate y_new
+    (body velocities u = y[:, 0:3], spins w = y[:, 3:6]); ``R_old``, ``V_old`` and ``w_old``
+    the frames, lab velocities and spins of the known level.  ``band``: the frames' blocks
+    (C4, second line) as ``turn`` for the banded Jacobian (a trapezoidal quadrature adds
+    them to its nodal dF); else as three more rank-one terms a node in ``U``, ``G``."""
     n1 = R_old.shape[0]
     R = shapes.rodrigues(0.5 * sp.dt * (y_new[:, 3:6] + w_old)) @ R_old  # (C1)
     V_new = np.einsum("nji,nj->ni", R, y_new[:, 0:3])
@@ -271,22 +287,26 @@ def contact_source(sp: StepParams, pairs: Pairs, R_old, V_old, w_old, y_new, wei
     worst, energy, power = _forces(sp, pairs, V_old, V_new, f, slope)
     q = np.zeros((n1, nf))
     q[:, 0:3] = -np.einsum("nij,nj->ni", R, f) / weights[:, None]
-    on = slope > SLOPE_MIN
-    if not want_jac or not on.any():
-        return Source(
-            q, np.zeros((0, 0)), np.zeros(0, np.int64), worst, energy, power, int(on.sum())
-        )
+    on = np.flatnonzero(slope > SLOPE_MIN)
+    if not want_jac or on.size == 0:
+        none = np.zeros((0, nf * n1))
+        return Source(q, none, none, NO_NODES, NO_BLOCKS, worst, energy, power, int(on.size))
     nodes = np.unique(pairs.nodes[on][pairs.nodes[on] >= 0])
-    where = np.full(n1, -1, np.int64)
-    where[nodes] = np.arange(nodes.size)
-    C = np.zeros((6 * nodes.size, nf * n1))
-    stiff = sp.law.stiffness * sp.g_t * sp.dt + sp.law.damping
     turn = 0.5 * sp.dt * left_jacobian(-0.5 * sp.dt * (y_new[:, 3:6] + w_old))  # (C4)
-    u = np.ascontiguousarray(y_new[:, 0:3])
-    _columns(sp, pairs, slope, stiff, R, u, turn, weights, where, nbl, rscale, yscale, C)
-    _frame_columns(sp, nodes, np.ascontiguousarray(q[:, 0:3]), turn, nbl, rscale, yscale, C)
-    cols = (nf * nodes[:, None] + np.arange(6)[None, :]).ravel()
-    return Source(q, C, cols, worst, energy, power, int(on.sum()))
+    blocks = np.empty((nodes.size, 3, 3))
+    _frame_blocks(nodes, np.ascontiguousarray(q[:, 0:3]), turn, blocks)
+    k = on.size + (0 if band else 3 * nodes.size)
+    U, G = np.zeros((k, nf * n1)), np.zeros((k, nf * n1))
+    stiff = sp.law.stiffness * sp.g_t * sp.dt + sp.law.damping
+    _pair_terms(sp, pairs, on, slope, stiff, R, np.ascontiguousarray(y_new[:, 0:3]), turn,
+                weights, nbl, rscale, yscale, U, G)  # fmt: skip
+    if band:
+        return Source(q, U, G, nodes, blocks, worst, energy, power, int(on.size))
+    _block_terms(sp, nodes, blocks, on.size, nbl, rscale, yscale, U, G)
+    return Source(q, U, G, NO_NODES, NO_BLOCKS, worst, energy, power, int(on.size))
+
+
+NO_NODES, NO_BLOCKS = np.zeros(0, np.int64), np.zeros((0, 3, 3))
 
 
 def left_jacobian(x: np.ndarray) -> np.ndarray:
@@ -302,12 +322,11 @@ def left_jacobian(x: np.ndarray) -> np.ndarray:
 
 
 @jit
-def _add_block(sp: StepParams, na, col, G, nbl, rscale, yscale, off, C):
-    """Add the 3 x 3 block G = dq_a / d(field off..off+2 of a node) to the columns
-    C[col .. col+2] in the rows of the cells a - 1 (weight 1 - b_s) and a (b_s), with
-    1 - b_t, scaled."""
+def _rows(sp: StepParams, na, v, nbl, rscale, out):
+    """out[rows] += a source v of node na in the linear momentum rows (3 values) as the
+    cells a - 1 (weight 1 - b_s) and a (b_s) take it, with 1 - b_t, scaled."""
     nf = rscale.shape[0]
-    n1 = C.shape[1] // nf
+    n1 = out.shape[0] // nf
     for side in range(2):
         cell = na - 1 + side
         if cell < 0 or cell >= n1 - 1:
@@ -315,54 +334,68 @@ def _add_block(sp: StepParams, na, col, G, nbl, rscale, yscale, off, C):
         wt = (1.0 - sp.b_t) * ((1.0 - sp.b_s) if side == 0 else sp.b_s)
         row = nbl + nf * cell
         for x in range(3):
-            for y in range(3):
-                C[col + y, row + x] += wt * G[x, y] * yscale[off + y] / rscale[x]
+            out[row + x] += wt * v[x] / rscale[x]
 
 
 @jit
-def _columns(sp: StepParams, pairs: Pairs, slope, stiff, R, u, turn, weights, where, nbl, rscale,
-             yscale, C):  # fmt: skip
-    """The Jacobian columns C[6 m + y] (one row per column) of (C2, C4) on the velocities
-    and spins of the nodes in contact (``where[b]`` = m), in the scaled rows and unknowns:
-    dq_a / du_b = g R_a n (R_b n)^T, dq_a / dw_b = -g R_a n (R_b n x u_b)^T turn_b with
-    g = w ramp' (k g_t dt + c) sigma_a sigma_b / w_a."""
+def _pair_terms(sp: StepParams, pairs: Pairs, on, slope, stiff, R, u, turn, weights, nbl,
+                rscale, yscale, U, G):  # fmt: skip
+    """(C5): the pressing pair p = on[k] adds U[k] G[k]^T, U[k] the rows its unit force
+    reaches, sigma_a R_a n / w_a at each node a, and G[k] the derivative of its force's
+    magnitude, -d ramp / d(u_b, w_b) = ramp' (k g_t dt + c) w sigma_b (R_b n, -(R_b n x u_b)
+    turn_b) (C2, C4), in the scaled rows and unknowns."""
     nodes, sigma, normal, weight = pairs.nodes, pairs.sigma, pairs.n, pairs.w
-    G = np.empty((3, 3))
-    H = np.empty((3, 3))
-    for p in range(nodes.shape[0]):
-        if slope[p] <= SLOPE_MIN:
-            continue
-        coef = weight[p] * slope[p] * stiff  # -df/dV = coef sig_a sig_b n n^T
+    nf = rscale.shape[0]
+    for k in range(on.shape[0]):
+        p = on[k]
+        coef = weight[p] * slope[p] * stiff
         for a in range(4):
             na = nodes[p, a]
             if na < 0:
                 continue
-            Rn_a = R[na] @ normal[p]
-            for b in range(4):
-                nb = nodes[p, b]
-                if nb < 0:
-                    continue
-                Rn_b = R[nb] @ normal[p]
-                g = coef * sigma[p, a] * sigma[p, b] / weights[na]
-                cr = np.cross(Rn_b, u[nb]) @ turn[nb]
-                for x in range(3):
-                    for y in range(3):
-                        G[x, y] = g * Rn_a[x] * Rn_b[y]
-                        H[x, y] = -g * Rn_a[x] * cr[y]
-                _add_block(sp, na, 6 * where[nb], G, nbl, rscale, yscale, 0, C)
-                _add_block(sp, na, 6 * where[nb] + 3, H, nbl, rscale, yscale, 3, C)
+            Rn = R[na] @ normal[p]
+            _rows(sp, na, sigma[p, a] / weights[na] * Rn, nbl, rscale, U[k])
+            cr = np.cross(Rn, u[na]) @ turn[na]
+            for y in range(3):
+                G[k, nf * na + y] += coef * sigma[p, a] * Rn[y] * yscale[y]
+                G[k, nf * na + 3 + y] -= coef * sigma[p, a] * cr[y] * yscale[3 + y]
 
 
 @jit
-def _frame_columns(sp: StepParams, nodes, q, turn, nbl, rscale, yscale, C):
-    """The columns of (C4)'s second line: the body components q_a of the force turn with
-    the frame of a, dq_a / dw_a = hat(q_a) turn_a."""
+def _frame_blocks(nodes, q, turn, out):
+    """(C4), second line: the body components q_a of the force turn with the frame of a,
+    dq_a / dw_a = hat(q_a) turn_a, for each node of ``nodes``."""
     Q = np.zeros((3, 3))
     for m in range(nodes.shape[0]):
         na = nodes[m]
         Q[0, 1], Q[0, 2], Q[1, 2] = -q[na, 2], q[na, 1], -q[na, 0]
         Q[1, 0], Q[2, 0], Q[2, 1] = q[na, 2], -q[na, 1], q[na, 0]
-        _add_block(sp, na, 6 * m + 3, Q @ turn[na], nbl, rscale, yscale, 3, C)
+        out[m] = Q @ turn[na]
+
+
+@jit
+def _block_terms(sp: StepParams, nodes, blocks, k0, nbl, rscale, yscale, U, G):
+    """The blocks dq_a / dw_a as rank-one terms: U[k] the rows of column y of the block,
+    G[k] the unit on w_y of node a (scaled), from k = k0 on."""
+    nf = rscale.shape[0]
+    k = k0
+    for m in range(nodes.shape[0]):
+        na = nodes[m]
+        for y in range(3):
+            _rows(sp, na, np.ascontiguousarray(blocks[m, :, y]), nbl, rscale, U[k])
+            G[k, nf * na + 3 + y] = yscale[3 + y]
+            k += 1
+
+
+@jit
+def add_blocks(nodes, blocks, dF):
+    """dF[a][u rows, w columns] += the blocks of ``nodes`` (the trapezoidal quadrature's
+    nodal Jacobian of F: the cells beside a take it with the same weights as q_a)."""
+    for m in range(nodes.shape[0]):
+        na = nodes[m]
+        for x in range(3):
+            for y in range(3):
+                dF[na, x, 3 + y] += blocks[m, x, y]
 
 
 def add_to_residual(r, q_new, sp: StepParams, nf, nbl, rscale) -> None:

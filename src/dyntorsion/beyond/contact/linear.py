@@ -1,27 +1,27 @@
 """The linear solve of one Newton iteration of a contact step (:mod:`.implicit`): the
-banded Jacobian J of the step (:mod:`dyntorsion.genalpha.abd`) plus the contact's
-columns C E^T (E the columns ``cols`` of the identity),
+banded Jacobian J of the step (:mod:`dyntorsion.genalpha.abd`, the frames' blocks of (C5)
+included) plus the pairs' rank-one terms U^T G (k rows each: (C5)),
 
-    (J + C E^T) dx = -r.
+    (J + U^T G) dx = -r.
 
-**Woodbury** on the banded factors of J (few columns):
+**Woodbury** on the banded factors of J (few terms):
 
-    (J + C E^T)^{-1} b = z - Z (I + E^T Z)^{-1} E^T z,    z = J^{-1} b,  Z = J^{-1} C,
+    (J + U^T G)^{-1} b = z - Z (I + G Z)^{-1} G z,    z = J^{-1} b,  Z = J^{-1} U^T,
 
-one banded solve per column and a dense solve of the columns' size: cost ~ m N + m^3 for m
-columns.  **Sparse LU** of J + C E^T assembled whole (SuperLU, :func:`scipy.sparse.linalg.
-splu`, column order COLAMD, partial pivoting), for many columns: its cost hardly grows with
-m, the columns touching only the rows of the cells beside the nodes in contact.  A
-plectoneme of PyElastica's scene at N = 100 holds ~100 nodes in contact, 600 columns.
-Both solve the same system; :func:`sparse_from` columns switch from the first to the
-second.  Measured (``benchmarks/bench_contact.py``, 2026-11-26, medians, one BLAS
-thread): the two cost the same at about 190, 300 and 400 columns for N = 100, 400 and
-800; the sparse LU is 2-4 times faster at 768 columns and 4-20 times slower at 12-48.
+one banded solve per term and a dense solve of the terms' number: cost ~ k N + k^3 for k
+terms.  **Sparse LU** of J + U^T G assembled whole (SuperLU, :func:`scipy.sparse.linalg.
+splu`, column order COLAMD, partial pivoting), for many terms: its cost hardly grows with
+k, each term touching only the rows and unknowns of the four nodes of its pair.  Both
+solve the same system; from :func:`sparse_from` terms on the second is taken.  Measured
+(``benchmarks/bench_contact.py``, 2026-11-26, medians, one BLAS thread, six columns a node
+then): the two cost the same at about 190, 300 and 400 columns for N = 100, 400 and 800;
+the sparse LU is 2-4 times faster at 768 columns and 4-20 times slower at 12-48.
 """
 
 from __future__ import annotations
 
 import numpy as np
+import scipy.sparse as sps
 import scipy.sparse.linalg as spla
 
 from ..._numba import jit
@@ -32,49 +32,47 @@ __all__ = ["contact_solve", "sparse_from", "sparse_solve", "woodbury_solve"]
 
 
 def sparse_from(n_cells: int) -> int:
-    """The number of contact columns from which :func:`contact_solve` takes the sparse
-    LU on N = ``n_cells`` (near the measured crossing, module docstring)."""
+    """The number of rank-one terms from which :func:`contact_solve` takes the sparse LU on
+    N = ``n_cells`` (near the measured crossing, module docstring)."""
     return 150 + n_cells // 3
 
 
 @jit
-def _solve_columns(fac, C, Z):
-    """Z[c] = J^{-1} C[c] for every column c, with the banded factors of J."""
-    for c in range(C.shape[0]):
-        solve_neg(fac, C[c], Z[c])
+def _solve_columns(fac, U, Z):
+    """Z[c] = J^{-1} U[c] for every term c, with the banded factors of J."""
+    for c in range(U.shape[0]):
+        solve_neg(fac, U[c], Z[c])
         for j in range(Z.shape[1]):
             for f in range(Z.shape[2]):
                 Z[c, j, f] = -Z[c, j, f]
 
 
-def woodbury_solve(fac, r, C, cols, out) -> None:
-    """out = -(J + C E^T)^{-1} r, J the banded Jacobian whose factors ``fac`` hold
+def woodbury_solve(fac, r, U, G, out) -> None:
+    """out = -(J + U^T G)^{-1} r, J the banded Jacobian whose factors ``fac`` hold
     (module docstring)."""
     solve_neg(fac, r, out)  # out = -J^{-1} r = z
-    if cols.size == 0:
+    k = U.shape[0]
+    if k == 0:
         return
-    m = cols.size
-    Z3 = np.empty((m,) + out.shape)
-    _solve_columns(fac, C, Z3)  # Z[c] = J^{-1} C[c]
-    Z = Z3.reshape(m, -1)
+    Z3 = np.empty((k,) + out.shape)
+    _solve_columns(fac, U, Z3)  # Z[c] = J^{-1} U[c]
+    Z = Z3.reshape(k, -1)
     z = out.ravel()
-    small = np.eye(m) + Z[:, cols].T
-    corr = np.linalg.solve(small, z[cols])
+    corr = np.linalg.solve(np.eye(k) + G @ Z.T, G @ z)
     out[:, :] = (z - Z.T @ corr).reshape(out.shape)
 
 
-def sparse_solve(left, A, B, right, r, C, cols, out) -> None:
-    """out = -(J + C E^T)^{-1} r by a sparse LU of the whole matrix, J given by its scaled
+def sparse_solve(left, A, B, right, r, U, G, out) -> None:
+    """out = -(J + U^T G)^{-1} r by a sparse LU of the whole matrix, J given by its scaled
     blocks (``Work.left``, ``Work.A``, ``Work.B``, ``Work.right``)."""
-    ci, ri = np.nonzero(C)
-    J = _abd.to_sparse(left, A, B, right, extra=(ri, cols[ci], C[ci, ri]))
-    out[:, :] = -spla.splu(J).solve(r).reshape(out.shape)
+    J = _abd.to_sparse(left, A, B, right) + sps.csc_matrix(U.T) @ sps.csr_matrix(G)
+    out[:, :] = -spla.splu(sps.csc_matrix(J)).solve(r).reshape(out.shape)
 
 
-def contact_solve(w, fac, r, C, cols, out) -> None:
-    """out = -(J + C E^T)^{-1} r: Woodbury below :func:`sparse_from` columns, else the
-    sparse LU (module docstring)."""
-    if cols.size < sparse_from(w.A.shape[0]):
-        woodbury_solve(fac, r, C, cols, out)
+def contact_solve(w, fac, r, U, G, out) -> None:
+    """out = -(J + U^T G)^{-1} r: Woodbury below :func:`sparse_from` terms, else the sparse
+    LU (module docstring)."""
+    if U.shape[0] < sparse_from(w.A.shape[0]):
+        woodbury_solve(fac, r, U, G, out)
     else:
-        sparse_solve(w.left, w.A, w.B, w.right, r, C, cols, out)
+        sparse_solve(w.left, w.A, w.B, w.right, r, U, G, out)

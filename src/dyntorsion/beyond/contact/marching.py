@@ -41,6 +41,7 @@ from ...genalpha.plan import initial_rate
 from .implicit import (
     NO_PAIRS,
     StepParams,
+    add_blocks,
     add_to_residual,
     candidates,
     contact_source,
@@ -62,14 +63,18 @@ def _prepare(F, con, w, qs, q_old, q_new):
     prepare_step(F, con, w, qs, 1.0, 1.0, q_old, q_new, True)
 
 
-@jit(
-    signature=numba.types.Tuple((numba.float64, _I))(_F, _DF, CONSTANTS, A1, A1, WORK, _abd.FACTORS)
-)
-def _residual_factor(F, dF, con, gL, gR, w, fac):
-    """The residual w.r at w.y (its RMS) and the LU factors of the banded Jacobian (the
-    column of a zero pivot, or -1)."""
-    res = residual(F, dF, con, gL, gR, w.y, w, w.r, True)
-    return res, factor(con, w, fac)
+@jit(signature=numba.float64(_F, _DF, CONSTANTS, A1, A1, WORK))
+def _residual_jacobian(F, dF, con, gL, gR, w):
+    """The residual w.r at w.y (its RMS) and the Jacobian of F at the quadrature points
+    (w.dF), which :func:`_factor` assembles."""
+    return residual(F, dF, con, gL, gR, w.y, w, w.r, True)
+
+
+@jit(signature=_I(CONSTANTS, WORK, _abd.FACTORS))
+def _factor(con, w, fac):
+    """The LU factors of the banded Jacobian assembled from w.dF (the column of a zero
+    pivot, or -1)."""
+    return factor(con, w, fac)
 
 
 @jit(signature=numba.float64(_F, _DF, CONSTANTS, A1, A1, WORK))
@@ -149,16 +154,19 @@ def _contact_newton(system, F, dF, con, w, fac, gL, gR, sp, pairs, R, V_old, wei
     def rms(v):
         return float(np.sqrt(np.mean(v * v)))
 
-    res, pivot = _residual_factor(F, dF, con, gL, gR, w, fac)
+    band = con.co.trapezoidal  # the frames' blocks of (C5) into the nodal dF
+    _residual_jacobian(F, dF, con, gL, gR, w)
     for it in range(1, opts.max_iter + 1):
-        src = contact_source(sp, pairs, R, V_old, w_old, y, weights, nf, nbl, rs, ys)
+        src = contact_source(sp, pairs, R, V_old, w_old, y, weights, nf, nbl, rs, ys, True, band)
         add_to_residual(r, src.q, sp, nf, nbl, rs)
+        add_blocks(src.nodes, src.turn, w.dF)
+        pivot = _factor(con, w, fac)
         res = rms(r)
         if not math.isfinite(res) or pivot >= 0:
             w.factored[0] = 0
             return False, it, src
         w.factored[0] = 1
-        contact_solve(w, fac, r, src.C, src.cols, dx)
+        contact_solve(w, fac, r, src.U, src.G, dx)
         nd = correction_norm(dx, y, ys)
         if not math.isfinite(nd):
             return False, it, src
@@ -176,7 +184,7 @@ def _contact_newton(system, F, dF, con, w, fac, gL, gR, sp, pairs, R, V_old, wei
                 break
             lam *= 0.5
         y[:, :] = yt
-        res, pivot = _residual_factor(F, dF, con, gL, gR, w, fac)
+        _residual_jacobian(F, dF, con, gL, gR, w)
     return False, opts.max_iter, src
 
 

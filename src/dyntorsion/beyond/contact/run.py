@@ -43,6 +43,7 @@ from ...genalpha import Grid
 from ...genalpha.guard import real
 from ...model.cosserat import Cosserat
 from .between import _Between, _lagged
+from .budget import share
 from .damped import damped_system
 from .law import LawParams, lag_cost
 from .marching import march_implicit
@@ -314,9 +315,7 @@ def run_contact_scene(
         "energy_residual": float(numerical / w_in) if w_in else 0.0,
         "energy_scheme": between.budget.as_dict() if c.implicit else None,
         "energy_residual_scheme": (
-            -between.budget.rest / (between.budget.ends + between.budget.seed)
-            if c.implicit
-            else None
+            -share(between.budget.as_dict(), "rest") if c.implicit else None
         ),  # fmt: skip
         "drift": between.recon.drift.as_dict(),
         "wall_time": time.perf_counter() - wall,
