@@ -1,17 +1,17 @@
 """Cost of the linear solve of one Newton iteration of a contact step
 (:mod:`dyntorsion.beyond.contact.linear`): the Woodbury correction on the banded factors
-against the sparse LU of the whole matrix, versus the number of contact columns, at
+against the sparse LU of the whole matrix, versus the number of rank-one contact terms, at
 N = 100, 400 and 800 cells (the Table 1 rod, a bent state with every field nonzero).
 
-The contact columns are those of m nodes in contact, 6 each (velocity and spin), each
-column nonzero in the rows of the two cells beside the node and beside a partner node
-far along the rod, as :func:`dyntorsion.beyond.contact.implicit.contact_source` makes
-them.  Both solves are timed after the banded factorisation the Newton iteration makes
-anyway (``_residual_factor``); the largest difference of the two solutions relative to
-their size is printed.  The switch :func:`~dyntorsion.beyond.contact.linear.sparse_from`
-should sit near the crossing (printed).  Run it with one BLAS thread
-(``OPENBLAS_NUM_THREADS=1``) when other processes share the cores.  Medians of repeated runs on a shared machine: compare the
-ratios.  Nothing is asserted.
+Each term is that of a pair pressing (C5 of :mod:`dyntorsion.beyond.contact.implicit`): two
+segments far apart along the rod, nonzero in the rows of the cells beside their four nodes
+and in the velocities and spins of those nodes.  Both solves are timed after the banded
+factorisation the Newton iteration makes anyway; the largest difference of the two
+solutions relative to their size is printed.  The switch
+:func:`~dyntorsion.beyond.contact.linear.sparse_from` should sit near the crossing
+(printed).  Run it with one BLAS thread (``OPENBLAS_NUM_THREADS=1``) when other processes
+share the cores.  Medians of repeated runs on a shared machine: compare the ratios.
+Nothing is asserted.
 
 With ``--baseline COMMIT`` it also runs a whole scene past contact with the code of this
 checkout and of COMMIT (a temporary git worktree, alternating subprocesses so that both see
@@ -47,7 +47,7 @@ import numpy as np
 
 from dyntorsion import Rod, __version__
 from dyntorsion.beyond.contact.linear import sparse_from, sparse_solve, woodbury_solve
-from dyntorsion.beyond.contact.marching import _residual_factor
+from dyntorsion.beyond.contact.marching import _factor, _residual_jacobian
 from dyntorsion.buckling.scene import Scene
 from dyntorsion.genalpha.discrete import setup
 from dyntorsion.genalpha.scheme import Scheme
@@ -63,8 +63,8 @@ def median_ms(fn, *args, repeats: int = 7) -> float:
     return 1e3 * statistics.median(samples)
 
 
-def case(n: int, m: int, rng):
-    """The factored step matrix of N = n and the columns of m nodes in contact."""
+def case(n: int, k: int, rng):
+    """The factored step matrix of N = n and k rank-one contact terms (module docstring)."""
     rod = Rod.paper()
     system = Cosserat(rod).system()
     nf = system.nf
@@ -75,19 +75,19 @@ def case(n: int, m: int, rng):
     con, w, fac = setup(system, Scheme(), n, rod.L / n, 2.5e-4, left, right, y0, 0 * y0)
     w.y[:, :] = y0 + 1e-3 * rng.normal(size=y0.shape)
     gL, gR = left.at(np.array([2.5e-4]))[0], right.at(np.array([2.5e-4]))[0]
-    _residual_factor(system.F, system.dF, con, gL, gR, w, fac)
+    _residual_jacobian(system.F, system.dF, con, gL, gR, w)
+    _factor(con, w, fac)
     nbl = con.left_rows.shape[0]
-    nodes = np.sort(rng.choice(np.arange(1, n), size=m, replace=False))
-    partner = np.roll(nodes, m // 2)
-    C = np.zeros((6 * m, nf * (n + 1)))
-    for k, (a, b) in enumerate(zip(nodes, partner, strict=True)):
-        for node in (a, b):
+    U, G = np.zeros((k, nf * (n + 1))), np.zeros((k, nf * (n + 1)))
+    for t in range(k):
+        i = int(rng.integers(0, n // 2 - 1))
+        j = i + n // 2
+        for node in (i, i + 1, j, j + 1):
             for cell in (node - 1, node):
                 if 0 <= cell < n:
-                    rows = nbl + nf * cell + np.arange(3)
-                    C[6 * k : 6 * k + 6][:, rows] = 1e-2 * rng.normal(size=(6, 3))
-    cols = (nf * nodes[:, None] + np.arange(6)[None, :]).ravel()
-    return w, fac, C, cols
+                    U[t, nbl + nf * cell + np.arange(3)] = 1e-2 * rng.normal(size=3)
+            G[t, nf * node + np.arange(6)] = rng.normal(size=6)
+    return w, fac, U, G
 
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -188,24 +188,24 @@ def main() -> int:
     ap.add_argument("--writhe-baseline", help="also time the writhe kernel against this commit's")
     args = ap.parse_args()
     print(f"dyntorsion {__version__}, python {platform.python_version()}, the sparse LU from "
-          f"{sparse_from(100)} / {sparse_from(400)} / {sparse_from(800)} columns at N = 100 / 400 / 800")  # fmt: skip
-    print(f"{'N':>5} {'nodes':>6} {'columns':>8} {'Woodbury [ms]':>14} {'sparse LU [ms]':>15} "
-          f"{'ratio':>6} {'rel. diff':>10}")  # fmt: skip
+          f"{sparse_from(100)} / {sparse_from(400)} / {sparse_from(800)} terms at N = 100 / 400 / 800")  # fmt: skip
+    print(f"{'N':>5} {'terms':>6} {'Woodbury [ms]':>14} {'sparse LU [ms]':>15} {'ratio':>6} "
+          f"{'rel. diff':>10}")  # fmt: skip
     rng = np.random.default_rng(1)
     for n in (100, 400, 800):
-        for m in (2, 4, 8, 16, 32, 64, 128):
-            if m > n // 2:
+        for k in (12, 48, 192, 384, 768):
+            if k > 2 * n:
                 continue
-            w, fac, C, cols = case(n, m, rng)
+            w, fac, U, G = case(n, k, rng)
             r = w.r.copy()
             a, b = np.empty_like(w.y), np.empty_like(w.y)
-            woodbury_solve(fac, r, C, cols, a)  # compile
-            sparse_solve(w.left, w.A, w.B, w.right, r, C, cols, b)
+            woodbury_solve(fac, r, U, G, a)  # compile
+            sparse_solve(w.left, w.A, w.B, w.right, r, U, G, b)
             diff = float(np.abs(a - b).max() / np.abs(a).max())
-            tw = median_ms(woodbury_solve, fac, r, C, cols, a)
-            ts = median_ms(sparse_solve, w.left, w.A, w.B, w.right, r, C, cols, b)
-            print(f"{n:>5} {m:>6} {cols.size:>8} {tw:>14.2f} {ts:>15.2f} {tw / ts:>6.2f} "
-                  f"{diff:>10.1e}", flush=True)  # fmt: skip
+            tw = median_ms(woodbury_solve, fac, r, U, G, a)
+            ts = median_ms(sparse_solve, w.left, w.A, w.B, w.right, r, U, G, b)
+            print(f"{n:>5} {k:>6} {tw:>14.2f} {ts:>15.2f} {tw / ts:>6.2f} {diff:>10.1e}",
+                  flush=True)  # fmt: skip
     if args.baseline:
         scene_against(args.baseline, args.rounds)
     if args.writhe_baseline:

@@ -7,8 +7,9 @@ every scene without contact are untouched.
 Each step: the candidate pairs from the known level (:func:`.implicit.candidates`); none:
 the engine's compiled Newton solve of the step (:func:`~dyntorsion.genalpha.newton.solve_step`,
 the same as a scene without contact, with its retry from the other predictor); some: a
-full Newton solve with the contact's source and Jacobian columns (:mod:`.linear`: Woodbury
-on the banded factors, or a sparse LU for many columns) at every iteration.  Between steps
+full Newton solve with the contact's source and Jacobian at every iteration (the frames'
+blocks of (C5) in the banded Jacobian, a rank-one term a pressing pair by :mod:`.linear`:
+Woodbury on the banded factors, or a sparse LU for many pairs).  Between steps
 the same bookkeeping as the lagged route (:class:`.between._Between`: rebuild, law on the
 rebuilt shape for the reported overlap, energy budget with the source the step used,
 topology), so both routes report alike.
