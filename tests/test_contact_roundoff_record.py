@@ -49,14 +49,16 @@ def test_the_spread_is_the_record_s_runs_compared(record):
 
 def test_what_the_page_says_of_the_spreads(record):
     """Up to the first contact and in the slow scene round-off decides nothing visible; past
-    a violent contact it decides the overlap and the energy residual to a tenth of the
-    issue's bounds (1 % of D, 1 % of the work) or more."""
+    a violent contact it decides the overlap and the energy residual to the size of the
+    issue's bounds (1 % of D, 1 % of the work) on 400 cells (measured 0.50 % and 0.65 %)
+    and to about a tenth of them on 800 (0.06 % and 0.13 %; 0.23 % and 0.28 % with the
+    contact's Jacobian in six columns a node, before 2026-11-27)."""
     sp = record["spread"]
     assert sp["a16-first-contact-N400"]["first_contact_t"] < 1e-9
     slow = sp["pyelastica-scene-N100-20s"]
     assert slow["writhe_turns"] < 1e-6 and slow["max_penetration_over_D"] < 1e-9
     assert slow["energy_residual"] < 1e-9 and slow["first_self_contact_t"] < 1e-9
-    for run in ("a16-past-N400", "a16-past-N800"):
-        assert sp[run]["max_penetration_over_D"] >= 0.1 * 0.01
-        assert sp[run]["energy_residual"] >= 0.1 * 0.01
+    for q in ("max_penetration_over_D", "energy_residual"):
+        assert sp["a16-past-N400"][q] >= 0.3 * 0.01
+        assert 0.03 * 0.01 <= sp["a16-past-N800"][q] <= 0.3 * 0.01
     assert sp["fig07-continued-N800"]["energy_residual"] >= 0.1 * 0.01

@@ -208,7 +208,10 @@ def test_the_longer_rod_shows_no_plateau_and_says_where_it_stops_being_trusted(p
     more than one plectoneme turn (1.19); while |Lk - Tw - Wr| <= 0.05 turns (to 118.5 s)
     the torque stays above the two-ply plateau and rises by more than 0.15 N m (0.73 ->
     0.97 N m) as the ply grows by more than 0.4 turns (1.19 -> 1.79); past it the run fails
-    the issue's checks (Lk - Tw - Wr 0.85 turns, energy residual 41 %), as the page says."""
+    the issue's checks (Lk - Tw - Wr 0.76 turns, energy residual 13 %), as the page says.
+    Those last two are of the untrusted part and move with the arithmetic: 0.85 turns and
+    41 % with the contact's Jacobian in six columns a node (before 2026-11-27), where every
+    reading above was the same."""
     th, p = plateau["theory"], plateau["params"]
     h, out = plateau["curve"]["history"], plateau["curve"]["result"]
     t, M = np.asarray(h["t"]), np.asarray(h["end_moment"])
@@ -226,7 +229,7 @@ def test_the_longer_rod_shows_no_plateau_and_says_where_it_stops_being_trusted(p
     assert t[lost] - t[j] > 20.0
     assert M[held].min() > th["ply"]["torque"] and M[held][-1] - M[held][0] > 0.15
     assert plect[held][-1] - plect[held][0] > 0.4
-    assert out["max_link_gap_turns"] > 0.5 and out["energy_residual"] > 0.2
+    assert out["max_link_gap_turns"] > 0.5 and out["energy_residual"] > 0.1
 
 
 @pytest.fixture(scope="module")
@@ -237,8 +240,8 @@ def bounds(current_record):
 def test_a_stiffer_contact_on_a_finer_grid_meets_the_issue_s_bounds(bounds, side):
     """PyElastica's scene with the contact 4 times stiffer (benchmarks/plectoneme_bounds.py):
     both runs go to 100 s without passage, overlap within 1 % of D (0.87 %, 0.84 %), energy
-    residual within 0.1 % (1.2e-4, 1.6e-4); Lk - Tw - Wr falls from N = 400 to 500 at an
-    observed order above 2 (0.0104 -> 0.0054 turns, order 2.9) and meets the issue's 0.01 on
+    residual within 0.1 % (1.2e-4, 1.5e-4); Lk - Tw - Wr falls from N = 400 to 500 at an
+    observed order above 2 (0.0104 -> 0.0052 turns, order 3.1) and meets the issue's 0.01 on
     500 cells; the two grids' writhes agree within 0.02 turns over the run (0.006) and end
     within 0.1 turns of the side-by-side record's N = 200 run (default stiffness; 0.04)."""
     runs = {r["n_cells"]: r for r in bounds["runs"]}
