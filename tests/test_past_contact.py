@@ -259,6 +259,27 @@ def test_cli_buckle_contact_prints_one_json_object(capsys):
                 "link_turns", "twist_turns", "writhe_turns", "stopped"):  # fmt: skip
         assert key in out, key
     assert out["stopped"] == "t_end" and out["first_contact_t"] is None
+    verdict = out["checks"]
+    assert [c["quantity"] for c in verdict["checks"]] == [
+        "stopped",
+        "max_penetration_over_D",
+        "max_link_gap_turns",
+        "energy_residual_scheme",
+    ]
+    for c in verdict["checks"]:
+        assert c["reading"] == out[c["quantity"]]
+    assert verdict["met"] == all(c["met"] for c in verdict["checks"])
+
+
+def test_cli_contact_prints_each_check_beside_its_bound(capsys):
+    from dyntorsion.app.cli import main
+
+    argv = ["buckle", "--a", "16", "--kappa0", "10", "--contact", "--t-end", "0.05",
+            "--fidelity", "quick", "--contact-stiffness", "200"]  # fmt: skip
+    assert main(argv) == 0
+    lines = [ln for ln in capsys.readouterr().out.splitlines() if ln.startswith("check:")]
+    assert len(lines) == 4
+    assert "overlap / D" in lines[1] and "bound 0.01" in lines[1]
 
 
 def test_cli_contact_needs_an_end_time(capsys):

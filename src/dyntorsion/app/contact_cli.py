@@ -1,12 +1,14 @@
 """``dyntorsion buckle --contact``: a buckling scene followed past self-contact (issue 33,
 :mod:`dyntorsion.beyond.contact`; with ``--store`` read from or written to the store as a
-``contact-run`` record, :mod:`dyntorsion.studies.contact_runs`), and ``--json`` for every
-buckle run: one JSON object."""
+``contact-run`` record, :mod:`dyntorsion.studies.contact_runs`), its result with the
+issue's checks, each reading beside its bound (:mod:`dyntorsion.beyond.contact.checks`),
+and ``--json`` for every buckle run: one JSON object."""
 
 from __future__ import annotations
 
 import argparse
 
+from ..beyond.contact.checks import verdict
 from ..beyond.contact.run import Contact, ContactScene, run_contact_scene
 from ..buckling.scene import Scene
 from ..studies.contact_runs import contact_run
@@ -66,6 +68,7 @@ def buckle_contact(args: argparse.Namespace, scene: Scene) -> int:
         result = {**record["summary"], "cached": cached}
     else:
         result = run_contact_scene(cs).result()
+    result["checks"] = verdict(result)
     if args.json:
         print(result_json(result))
     else:
@@ -74,4 +77,7 @@ def buckle_contact(args: argparse.Namespace, scene: Scene) -> int:
                     "max_link_gap_turns", "max_cell_bend", "energy_residual",
                     "energy_residual_scheme"):  # fmt: skip
             print(f"{key:<24} {result[key]}")
+        for c in result["checks"]["checks"]:
+            print(f"check: {c['name']:<42} {c['reading']!s:<24} bound {c['bound']!s:<6} "
+                  f"{'met' if c['met'] else 'NOT met'}")  # fmt: skip
     return 0 if result["stopped"] == "t_end" else 1
