@@ -36,8 +36,8 @@ def test_the_bounds_are_the_issue_s():
 
 @pytest.mark.parametrize(
     ("field", "name"),
-    [("max_penetration_over_D", "overlap / D"), ("max_link_gap_turns", "|Lk - Tw - Wr| [turns]"),
-     ("energy_residual_scheme", "energy left by the scheme's lines / work")],
+    [("max_penetration_over_D", "overlap"), ("max_link_gap_turns", "link = twist + writhe"),
+     ("energy_residual_scheme", "energy budget")],
 )  # fmt: skip
 def test_each_bound_is_met_at_it_and_missed_just_above_it(field, name):
     bound = {c.quantity: c.bound for c in checks(_result())}[field]
@@ -73,6 +73,6 @@ def test_the_committed_runs_past_contact_as_the_page_judges_them():
     for lam in (-0.8, -0.9, -1.0):
         assert verdict(past[(800, lam, 3.3, "time")])["met"], lam
     assert verdict(past[(400, -0.8, 3.45, "time")])["unmet"] == [
-        "overlap / D",
-        "|Lk - Tw - Wr| [turns]",
+        "overlap",
+        "link = twist + writhe",
     ]

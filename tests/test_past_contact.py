@@ -279,7 +279,7 @@ def test_cli_contact_prints_each_check_beside_its_bound(capsys):
     assert main(argv) == 0
     lines = [ln for ln in capsys.readouterr().out.splitlines() if ln.startswith("check:")]
     assert len(lines) == 4
-    assert "overlap / D" in lines[1] and "bound 0.01" in lines[1]
+    assert "overlap" in lines[1] and "bound 0.01" in lines[1]
 
 
 def test_cli_contact_needs_an_end_time(capsys):

@@ -60,11 +60,11 @@ def checks(result: Mapping[str, Any]) -> tuple[Check, ...]:
     energy = result["energy_residual_scheme"]
     return (
         Check("reached its end", "stopped", stopped, "t_end", stopped == "t_end"),
-        Check("overlap / D", "max_penetration_over_D", overlap, BOUNDS["overlap"],
+        Check("overlap", "max_penetration_over_D", overlap, BOUNDS["overlap"],
               _at_most(overlap, BOUNDS["overlap"])),
-        Check("|Lk - Tw - Wr| [turns]", "max_link_gap_turns", gap, BOUNDS["link"],
+        Check("link = twist + writhe", "max_link_gap_turns", gap, BOUNDS["link"],
               _at_most(gap, BOUNDS["link"])),
-        Check("energy left by the scheme's lines / work", "energy_residual_scheme", energy,
+        Check("energy budget", "energy_residual_scheme", energy,
               BOUNDS["energy"], _at_most(energy, BOUNDS["energy"])),
     )  # fmt: skip
 
