@@ -15,20 +15,19 @@ the torque over the first turn after the jump lies 1.22 times above the two-ply 
 (``plectoneme_tension.json``); the question here is whether a longer ply levels off at the
 theory's torque.
 
-Measured (2026-11-27, this record; the Past contact page reads it): no.  The jump itself
-puts most of the rod into the ply (the far end pulled in from 3.96 to 1.69 m within 5 s,
-1.19 plectoneme turns), and while Lk - Tw - Wr stays within 0.05 turns (to 118.5 s) the
-torque rises from 0.73 to 0.97 N m, 1.2 to 1.6 times the plateau, as the ply grows to
-1.8 turns.  Past that the ply uses up the rod (the far end at 0.27 m at the end), the
-0.5 D cells do not hold the compact ply and the run fails the issue's checks (Lk - Tw - Wr
-0.85 turns, energy residual 41 %).  A plateau needs a rod many tension lengths longer.
+Measured (this record; the Past contact page reads its numbers from it): no.  The jump
+itself puts most of the rod into the ply, and while Lk - Tw - Wr stays within 0.05 turns
+the torque rises well above the two-ply plateau as the ply grows.  Past that the ply uses
+up the rod, the 0.5 D cells do not hold the compact ply and the run fails the issue's
+checks (Lk - Tw - Wr and the energy residual).  A plateau needs a rod many tension lengths
+longer.
 
 Every 0.1 s: the twisting moment at s = 0, link, twist, writhe, contact sites, the
 overlap, the far end's axial position and the plectoneme turns of the centreline.
 Written atomically when the run ends; a record whose parameters, script, the script it
 imports or code fingerprint differ from today's is stale.
 
-Run: ``python benchmarks/plectoneme_plateau.py`` (26 min here beside two other runs).
+Run: ``python benchmarks/plectoneme_plateau.py`` (about 7 min on this machine, 26 min beside two other runs).
 """
 
 from __future__ import annotations
