@@ -77,7 +77,8 @@ def test_the_cli_passes_the_contact_options_and_names_a_bad_one(monkeypatch, cap
 
     class Done:
         def result(self):
-            return {"stopped": "t_end"}
+            return {"stopped": "t_end", "max_penetration_over_D": 0.0,
+                    "max_link_gap_turns": 0.0, "energy_residual_scheme": 0.0}  # fmt: skip
 
     def fake(cs):
         seen["contact"] = cs.contact
