@@ -78,6 +78,8 @@ def buckle_contact(args: argparse.Namespace, scene: Scene) -> int:
                     "energy_residual_scheme"):  # fmt: skip
             print(f"{key:<24} {result[key]}")
         for c in result["checks"]["checks"]:
-            print(f"check: {c['name']:<42} {c['reading']!s:<24} bound {c['bound']!s:<6} "
+            r = c["reading"]
+            reading = f"{r:.4g}" if isinstance(r, float) else str(r).split(":")[0]
+            print(f"check: {c['name']:<22} {reading:<24} bound {c['bound']!s:<6} "
                   f"{'met' if c['met'] else 'NOT met'}")  # fmt: skip
     return 0 if result["stopped"] == "t_end" else 1
