@@ -28,6 +28,8 @@ __all__ = ["BOUNDS", "Check", "checks", "verdict"]
 #: the issue's bounds: the deepest overlap over D, |Lk - Tw - Wr| [turns], and what the
 #: scheme's energy lines leave over the work done
 BOUNDS: dict[str, float] = {"overlap": 0.01, "link": 0.01, "energy": 0.01}
+#: the fields of a run's result the checks read
+_READ = ("stopped", "max_penetration_over_D", "max_link_gap_turns", "energy_residual_scheme")
 
 
 @dataclass(frozen=True)
@@ -50,8 +52,7 @@ def _at_most(value: Any, bound: float) -> bool:
 def checks(result: Mapping[str, Any]) -> tuple[Check, ...]:
     """The checks of the module docstring on ``result`` (a run's result dict:
     :meth:`~.run.ContactRun.result`, or a record's copy of it)."""
-    missing = [k for k in ("stopped", "max_penetration_over_D", "max_link_gap_turns",
-                           "energy_residual_scheme") if k not in result]  # fmt: skip
+    missing = [k for k in _READ if k not in result]
     if missing:
         raise KeyError(f"result has no {', '.join(missing)}: not the result of a run past contact")
     stopped = str(result["stopped"])
