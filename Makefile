@@ -64,7 +64,8 @@ JOBS ?= 2
 DATA_PRESETS := fig10 fig10-tiny-seed fig10-paced fig08-09 fig08-09-tiny-seed fig10-grid fig10-grid-tiny-seed \
                 accuracy-fig08 accuracy-fast newton-fig08 newton-fast newton-fast-tiny-seed fig08-seeds imperfection \
                 mechanisms tension start-smooth start-slow seed-lab seed-impulse start-step-grid \
-                tolerance-holdout tolerance-holdout-2 tolerance-holdout-3 tolerance-reference
+                tolerance-holdout tolerance-holdout-2 tolerance-holdout-3 tolerance-holdout-4 \
+                tolerance-reference tolerance-reference-tight tolerance-solver
 LINEAR_PRESETS := linear-fig10 linear-fig10-tiny-seed linear-imperfection linear-variants
 data: $(VENV)/.test-installed
 	$(BIN)/dyntorsion sweep $(foreach p,$(DATA_PRESETS),--preset $(p)) --jobs $(JOBS)

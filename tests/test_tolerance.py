@@ -63,6 +63,26 @@ def test_the_estimate_is_the_larger_of_the_last_two_differences():
         T.error_estimate([1.0, math.nan, 2.0])
 
 
+@pytest.mark.parametrize("solver", [-1e-9, math.nan, math.inf, True, "0.1", None])
+def test_the_solver_share_is_added_and_bad_values_are_refused(solver):
+    v = [1.0 + 0.3 * 4.0**-k for k in range(4)]
+    for reading in T.READINGS:
+        assert T.error_estimate(v, reading, 0.25) == T.error_estimate(v, reading) + 0.25
+        with pytest.raises(ValueError, match=r"solver=.* must be a finite number >= 0"):
+            T.error_estimate(v, reading, solver)
+
+
+def test_the_solver_check_is_the_standard_rung_at_a_hundredth_of_the_tolerance():
+    sc = Scene(a=1.6, kappa0=10.0)
+    check, standard = T.solver_check(sc), T.rungs(sc, 3)[-1]
+    assert check.n_cells == standard.n_cells == 100 and check.dt == standard.dt
+    assert check.newton.tol == sc.newton.tol * T.SOLVER_FACTOR == pytest.approx(1e-12)
+    assert check.until == "first-peak" and check.seed == sc.seed
+    tight = P.preset("tolerance-reference-tight")
+    assert {s.newton.tol for s in tight} == {T.REFERENCE_TOL}
+    assert [s.n_cells for s in tight] == [s.n_cells for s in P.preset("tolerance-reference")]
+
+
 def test_the_rungs_halve_ds_and_dt_and_are_paced():
     sc = Scene(a=1.6, kappa0=10.0)
     rungs = T.rungs(sc)
@@ -97,6 +117,15 @@ def test_the_estimate_covers_the_converged_onset_of_a_cheap_scene():
     assert abs(res.t_c - ref) <= res.t_c_error <= 0.005 * res.t_c
     assert abs(res.kappa3 - (10.0 + 16.0 * ref)) <= res.kappa3_error
     assert [g["n_cells"] for g in res.grids] == [25, 50, 100, 200]
+    # the estimate: the rungs' differences plus the solver check's change
+    s = res.solver
+    assert s["n_cells"] == 100 and s["newton_tol"] == pytest.approx(1e-12)
+    standard = res.grids[2]
+    assert s["t_c_change"] == abs(s["t_c"] - standard["t_c"])
+    assert res.t_c_error == T.error_estimate([g["t_c"] for g in res.grids], "samples",
+                                             s["t_c_change"])  # fmt: skip
+    assert res.kappa3_error == T.error_estimate([g["kappa3"] for g in res.grids], "samples",
+                                                s["kappa3_change"])  # fmt: skip
     # the standard rung is never vouched for, however loose the tolerance
     assert T.onset_within(Scene(a=16.0, kappa0=10.0), 1.0).n_cells == 200
     # a tolerance the fine rung cannot meet, and no more cells allowed: said so
@@ -135,8 +164,11 @@ def test_buckle_rtol_reading_continuous_on_the_command_line(tmp_path, capsys):
     assert main([*argv, "--reading", "continuous", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["reading"] == "continuous" and out["grid"]["n_cells"] == 200
+    assert out["solver"]["n_cells"] == 100 and out["solver"]["t_c_change"] >= 0
     assert main([*argv, "--reading", "continuous"]) == 0
-    assert "onset read in continuous time" in capsys.readouterr().out
+    text = capsys.readouterr().out
+    assert "onset read in continuous time" in text
+    assert "solver     Newton tol 1e-12 N=100" in text and "changes t_c by" in text
     with pytest.raises(SystemExit) as exit_:
         main([*argv, "--reading", "spline"])
     assert exit_.value.code == 2 and "--reading" in capsys.readouterr().err

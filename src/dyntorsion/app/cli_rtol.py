@@ -18,7 +18,8 @@ __all__ = ["RTOL_HELP", "add_rtol_options", "rtol_type", "result_json", "buckle_
 RTOL_HELP = (
     "relative tolerance of t_c and kappa3 in (0, 1]: run the scene on the rungs of the "
     "fidelity ladder (dyntorsion.studies.tolerance; paced steps) until the estimated "
-    "discretisation error meets R, and print it (overrides --n-cells, --dt, --fidelity, --paced)"
+    "error (the rungs' differences and a solver check) meets R, and print it (overrides "
+    "--n-cells, --dt, --fidelity, --paced)"
 )
 
 
@@ -66,11 +67,17 @@ def buckle_rtol(args: argparse.Namespace, scene: Scene) -> int:
         print(
             f"rung       {g['rung']:<9} N={g['n_cells']:<4} dt={g['dt']:.4g} s  {g['status']:<9} t_c = {tc}"
         )
+    if res.solver is not None:
+        s = res.solver
+        tc = "-" if s["t_c"] is None else f"{s['t_c']:.5f} s"
+        change = "" if s["t_c_change"] is None else f" (changes t_c by {s['t_c_change']:.2g} s)"
+        print(f"solver     Newton tol {s['newton_tol']:.0e} N={s['n_cells']:<4} {s['status']:<9} "
+              f"t_c = {tc}{change}")  # fmt: skip
     print(f"status     {res.status} (onset read {READ_AS[res.reading]})")
     if res.t_c_error is None:
         print(res.note)
         return 1
-    print(f"t_c        {res.t_c:.5f} +- {res.t_c_error:.2g} s (estimated discretisation error)")
+    print(f"t_c        {res.t_c:.5f} +- {res.t_c_error:.2g} s (estimated error: rungs and solver)")
     print(f"kappa3     {res.kappa3:.5f} +- {res.kappa3_error:.2g} 1/m")
     print(
         f"grid       {res.rung}: N = {res.n_cells}, dt = {res.dt:.4g} s (paced by the {res.paced_by})"

@@ -166,9 +166,14 @@ def _step_grid() -> list[Scene]:
 #: Fig 10's, other seeds, another rod and loads) after the chooser's rule was changed
 #: in view of the first ("Accuracy and cost" page); the third (rates a quarter of a step
 #: above Fig 10's, other seeds, rod and loads) after the estimate of the continuous reading
-#: was fixed (2026-11-27), to test it
+#: was fixed (2026-11-27), to test it; the fourth (rates three quarters of a step above
+#: Fig 10's, other seeds, rod and loads) after the solver check was added to both
+#: estimates (2026-11-27, :data:`~dyntorsion.studies.tolerance.SOLVER_FACTOR`), to test that
 HALF_RATES: tuple[float, ...] = tuple(float(1.6 * 10 ** ((k + 0.5) / 6)) for k in range(-9, 6))
 QUARTER_RATES: tuple[float, ...] = tuple(float(1.6 * 10 ** ((k + 0.25) / 6)) for k in range(-9, 6))
+THREE_QUARTER_RATES: tuple[float, ...] = tuple(
+    float(1.6 * 10 ** ((k + 0.75) / 6)) for k in range(-9, 6)
+)
 HOLDOUTS: dict[str, dict[str, Any]] = {
     "tolerance-holdout": {
         "rates": FIG10_RATES,
@@ -190,6 +195,13 @@ HOLDOUTS: dict[str, dict[str, Any]] = {
         "rod": Rod(E=5e7, D=1.2e-3, rho=2500.0),
         "rod_rates": QUARTER_RATES[1::3],
         "loads": (0.75, -0.4),
+    },
+    "tolerance-holdout-4": {
+        "rates": THREE_QUARTER_RATES,
+        "seeds": (1e-11, 1e-15, 1e-17),
+        "rod": Rod(E=3.5e7, D=1.0e-3, rho=4000.0),
+        "rod_rates": THREE_QUARTER_RATES[2::3],
+        "loads": (0.6, -0.3),
     },
 }
 
@@ -225,6 +237,25 @@ def reference_scenes(names: tuple[str, ...] = tuple(HOLDOUTS)) -> list[Scene]:
     return [rungs(sc, len(CELLS) + 1)[-1] for name in names for sc in holdout_scenes(name)]
 
 
+def tight_reference_scenes(names: tuple[str, ...] = tuple(HOLDOUTS)) -> list[Scene]:
+    """The references of :func:`reference_scenes` with the Newton tolerance
+    :data:`~dyntorsion.studies.tolerance.REFERENCE_TOL`: converged in the solver too, where
+    a tiny seed makes the onset depend on it ("Accuracy and cost", "The solver's share")."""
+    from .tolerance import REFERENCE_TOL
+
+    return [
+        replace(sc, newton=replace(sc.newton, tol=REFERENCE_TOL)) for sc in reference_scenes(names)
+    ]
+
+
+def solver_scenes(names: tuple[str, ...] = tuple(HOLDOUTS)) -> list[Scene]:
+    """The solver check of every scene of the hold-out sets
+    (:func:`~dyntorsion.studies.tolerance.solver_check`)."""
+    from .tolerance import solver_check
+
+    return [solver_check(sc) for name in names for sc in holdout_scenes(name)]
+
+
 #: name -> function returning the scenes; ``make data`` runs them all
 PRESETS: dict[str, Callable[[], list[Scene]]] = {
     "fig10": lambda: _fig10("stated"),
@@ -248,7 +279,10 @@ PRESETS: dict[str, Callable[[], list[Scene]]] = {
     "tolerance-holdout": lambda: _holdout("tolerance-holdout"),
     "tolerance-holdout-2": lambda: _holdout("tolerance-holdout-2"),
     "tolerance-holdout-3": lambda: _holdout("tolerance-holdout-3"),
+    "tolerance-holdout-4": lambda: _holdout("tolerance-holdout-4"),
     "tolerance-reference": reference_scenes,
+    "tolerance-reference-tight": tight_reference_scenes,
+    "tolerance-solver": solver_scenes,
 }
 
 

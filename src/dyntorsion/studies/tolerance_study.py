@@ -32,9 +32,24 @@ import pandas as pd
 from ..model.rod import Rod
 from ..store.location import default_store
 from ..store.results import Store
-from .presets import HOLDOUTS, holdout_scenes, preset, reference_scenes
+from .presets import (
+    HOLDOUTS,
+    holdout_scenes,
+    preset,
+    reference_scenes,
+    solver_scenes,
+    tight_reference_scenes,
+)
 from .sweep import run_sweep
-from .tolerance import CELLS, VOUCHED, check_reading, error_estimate, onset_within, rung_name
+from .tolerance import (
+    CELLS,
+    SOLVER_RUNG,
+    VOUCHED,
+    check_reading,
+    error_estimate,
+    onset_within,
+    rung_name,
+)
 
 __all__ = [
     "SETS",
@@ -46,6 +61,7 @@ __all__ = [
     "alternatives",
     "reference_error",
     "multiples",
+    "solver_changes",
     "spread",
 ]
 
@@ -77,23 +93,51 @@ def _table(name: str, store: Store | str | Path | None) -> pd.DataFrame:
     return run_sweep(preset(name), store, compute=False, on_stale="error", progress=False)
 
 
-def _references(name: str, store: Store | str | Path | None) -> pd.DataFrame:
-    """The N = 800 onset of every scene of the hold-out set ``name``, read only."""
-    return run_sweep(
-        reference_scenes((name,)), store, compute=False, on_stale="error", progress=False
+def _references(name: str, store: Store | str | Path | None, tight: bool = False) -> pd.DataFrame:
+    """The N = 800 onset of every scene of the hold-out set ``name``, read only: at the
+    scenes' Newton tolerance, or (``tight``) at :data:`~dyntorsion.studies.tolerance.REFERENCE_TOL`."""
+    scenes = (tight_reference_scenes if tight else reference_scenes)((name,))
+    return run_sweep(scenes, store, compute=False, on_stale="error", progress=False)
+
+
+def solver_changes(
+    name: str = SETS[0], store: Store | str | Path | None = None, reading: str = "samples"
+) -> pd.DataFrame:
+    """Per scene of the hold-out set ``name``: the change of t_c and kappa3 in its solver
+    check (:func:`~dyntorsion.studies.tolerance.solver_check`) against its ``standard``
+    rung, the solver's share of the estimate (nan where either has no onset)."""
+    fields = check_reading(reading)
+    checks = run_sweep(solver_scenes((name,)), store, compute=False, on_stale="error",
+                       progress=False)  # fmt: skip
+    table = _table(name, store)
+    k = CELLS.index(SOLVER_RUNG)
+    std = table.iloc[k :: len(CELLS)].reset_index(drop=True)
+    ok = (std.status == "buckled").to_numpy() & (checks.status == "buckled").to_numpy()
+    return pd.DataFrame(
+        {
+            q: np.where(ok, np.abs(std[f].to_numpy(float) - checks[f].to_numpy(float)), np.nan)
+            for q, f in zip(("t_c", "kappa3"), fields, strict=True)
+        }  # fmt: skip
     )
 
 
 def pairs(
-    name: str = SETS[0], store: Store | str | Path | None = None, reading: str = "samples"
+    name: str = SETS[0],
+    store: Store | str | Path | None = None,
+    reading: str = "samples",
+    solver: bool = False,
+    tight: bool = False,
 ) -> pd.DataFrame:
     """One row per scene of the hold-out set ``name``, judged rung and quantity (t_c,
     kappa3): the estimate, the true error against the N = 800 reference, whether it
     covers, the overstatement; ``reading``: the onset read off the samples or in
     continuous time (:data:`~dyntorsion.studies.tolerance.READINGS`), on the rungs and the
-    reference alike."""
+    reference alike.  ``solver``: the estimates with the solver check's share
+    (:func:`solver_changes`; the chooser's), else from the rungs alone (the rules before
+    it); ``tight``: against the references converged in the solver too."""
     fields = dict(zip(("t_c", "kappa3"), check_reading(reading), strict=True))
-    table, refs = _table(name, store), _references(name, store)
+    table, refs = _table(name, store), _references(name, store, tight)
+    share = solver_changes(name, store, reading) if solver else None
     rows = []
     for i, sc in enumerate(holdout_scenes(name)):
         block = table.iloc[i * len(CELLS) : (i + 1) * len(CELLS)]
@@ -102,10 +146,12 @@ def pairs(
         for q in ("t_c", "kappa3"):
             vals = block[fields[q]].to_numpy(dtype=float)
             ref = float(refs[fields[q]].iloc[i])
+            extra = 0.0 if share is None else float(share[q].iloc[i])
             ok = ok and bool(np.isfinite(vals).all()) and math.isfinite(ref)
+            ok = ok and math.isfinite(extra)
             for n in JUDGED:
                 k = CELLS.index(n)
-                est = error_estimate(vals[: k + 1], reading) if ok else np.nan
+                est = error_estimate(vals[: k + 1], reading, extra) if ok else np.nan
                 true = abs(vals[k] - ref) if ok else np.nan
                 rows.append(
                     {
@@ -132,12 +178,14 @@ def chooser(
     name: str = SETS[0],
     store: Store | str | Path | None = None,
     reading: str = "samples",
+    tight: bool = False,
 ) -> pd.DataFrame:
     """:func:`~dyntorsion.studies.tolerance.onset_within` at ``rtol`` (up to the ``fine``
     rung, N = 200) on every scene of the hold-out set ``name``, read from the records,
-    with the true errors of the t_c and kappa3 it returns against the N = 800 reference."""
+    with the true errors of the t_c and kappa3 it returns against the N = 800 reference
+    (``tight``: converged in the solver too)."""
     fields = dict(zip(("t_c", "kappa3"), check_reading(reading), strict=True))
-    refs = _references(name, store)
+    refs = _references(name, store, tight)
     where = default_store() if store is None else store  # read, never compute
     rows = []
     for i, sc in enumerate(holdout_scenes(name)):
