@@ -101,10 +101,11 @@ def test_the_rungs_halve_ds_and_dt_and_are_paced():
     assert T.rungs(held, 2)[1].dt == fidelity.get("buckling", "quick").dt
 
 
-def _converged(preset: str) -> float:
-    """The onset on the finest grid of an accuracy ladder in data/ (N = 400, dt = 0.00125 s)."""
+def _converged(preset: str, field: str = "t_c_continuous") -> float:
+    """The onset on the finest grid of an accuracy ladder in data/ (N = 400, dt = 0.00125 s),
+    read as ``--rtol`` reads it by default (in continuous time) unless ``field`` says."""
     t = P.cached(preset)
-    return float(t[(t.n_cells == 400) & (t.dt == 0.00125)].t_c.iloc[0])
+    return float(t[(t.n_cells == 400) & (t.dt == 0.00125)][field].iloc[0])
 
 
 def test_the_estimate_covers_the_converged_onset_of_a_cheap_scene():
@@ -112,6 +113,7 @@ def test_the_estimate_covers_the_converged_onset_of_a_cheap_scene():
     ladder's finest grid (whose own neighbours agree to 1e-4 s)."""
     ref = _converged("accuracy-fast")
     res = T.onset_within(Scene(a=16.0, kappa0=10.0), 0.005)
+    assert res.reading == T.DEFAULT_READING == "continuous"
     assert res.met and res.status == "buckled"
     assert res.rung == "fine" and res.n_cells == 200
     assert abs(res.t_c - ref) <= res.t_c_error <= 0.005 * res.t_c
@@ -122,10 +124,14 @@ def test_the_estimate_covers_the_converged_onset_of_a_cheap_scene():
     assert s["n_cells"] == 100 and s["newton_tol"] == pytest.approx(1e-12)
     standard = res.grids[2]
     assert s["t_c_change"] == abs(s["t_c"] - standard["t_c"])
-    assert res.t_c_error == T.error_estimate([g["t_c"] for g in res.grids], "samples",
+    assert res.t_c_error == T.error_estimate([g["t_c"] for g in res.grids], res.reading,
                                              s["t_c_change"])  # fmt: skip
-    assert res.kappa3_error == T.error_estimate([g["kappa3"] for g in res.grids], "samples",
+    assert res.kappa3_error == T.error_estimate([g["kappa3"] for g in res.grids], res.reading,
                                                 s["kappa3_change"])  # fmt: skip
+    # the paper's rule off the samples, asked for by name: the same check, that reading
+    ref_s = _converged("accuracy-fast", "t_c")
+    res_s = T.onset_within(Scene(a=16.0, kappa0=10.0), 0.005, reading="samples")
+    assert res_s.met and abs(res_s.t_c - ref_s) <= res_s.t_c_error <= 0.005 * res_s.t_c
     # the standard rung is never vouched for, however loose the tolerance
     assert T.onset_within(Scene(a=16.0, kappa0=10.0), 1.0).n_cells == 200
     # a tolerance the fine rung cannot meet, and no more cells allowed: said so
@@ -169,6 +175,10 @@ def test_buckle_rtol_reading_continuous_on_the_command_line(tmp_path, capsys):
     text = capsys.readouterr().out
     assert "onset read in continuous time" in text
     assert "solver     Newton tol 1e-12 N=100" in text and "changes t_c by" in text
+    assert main(argv) == 0  # the default reading
+    assert "onset read in continuous time" in capsys.readouterr().out
+    assert main([*argv, "--reading", "samples"]) == 0
+    assert "onset read off the samples" in capsys.readouterr().out
     with pytest.raises(SystemExit) as exit_:
         main([*argv, "--reading", "spline"])
     assert exit_.value.code == 2 and "--reading" in capsys.readouterr().err
@@ -201,7 +211,8 @@ def test_sweep_rtol_runs_each_rate_and_caches_the_rungs(tmp_path, capsys):
     assert main(argv) == 0
     out = capsys.readouterr().out
     assert "t_c_error" in out and "fine" in out
-    assert len(list(tmp_path.glob("buckling-onset-*.json"))) == 4  # N = 25, 50, 100, 200
+    # N = 25, 50, 100, 200 and the solver check (N = 100 at a hundredth of the tolerance)
+    assert len(list(tmp_path.glob("buckling-onset-*.json"))) == 5
     # read back, computing nothing
     res = T.onset_within(Scene(a=16.0, kappa0=10.0), 0.01, store=tmp_path, compute=False)
     assert res.met and res.n_cells == 200
@@ -212,14 +223,15 @@ def test_sweep_rtol_runs_each_rate_and_caches_the_rungs(tmp_path, capsys):
 
 
 def test_the_hold_out_sets_are_covered():
-    """Issue 34's honesty check on the committed records (presets tolerance-holdout and
-    tolerance-holdout-2): on at least 60 scenes of each set, every one buckled on every
-    rung, the fine rung's estimate of t_c covers its true error (against N = 800, preset
-    tolerance-reference) in at least 95 % of the scenes, and the chooser's answers at
-    rtol 0.005 are covered as often."""
+    """Issue 34's honesty check of the sample rule's estimate on the committed records of
+    the three sets judged before the solver check (presets tolerance-holdout to -3): on at
+    least 60 scenes of each set, every one buckled on every rung, the fine rung's estimate
+    of t_c covers its true error (against N = 800, preset tolerance-reference) in at least
+    95 % of the scenes, and the chooser's answers at rtol 0.005 are covered as often.  (On
+    the fourth set it covers 90 %: the solver's share test below.)"""
     from dyntorsion.studies import tolerance_study as TS
 
-    for name in TS.SETS:
+    for name in TS.SETS[:3]:
         p = TS.pairs(name)
         fine = p[(p.rung == "fine") & (p.quantity == "t_c")]
         assert fine.scene.nunique() >= 60 and fine.buckled.all()
@@ -266,14 +278,14 @@ def test_read_in_continuous_time_the_estimate_is_honest_on_the_set_computed_afte
 
     fine = {}
     for reading in ("samples", "continuous"):
-        for name in TS.SETS:
+        for name in TS.SETS[:3]:
             p = TS.pairs(name, reading=reading)
             f = p[(p.rung == "fine") & (p.quantity == "t_c")]
             assert f.buckled.all() and f.scene.nunique() >= 60
             fine[reading, name] = f
     third = fine["continuous", TS.SETS[2]]
     assert third.covered.mean() >= 0.95 and (third.overstatement <= 3).mean() > 0.5
-    for name in TS.SETS:
+    for name in TS.SETS[:3]:
         f = fine["continuous", name]
         assert f.covered.mean() >= 0.90 and f.overstatement.median() < 3
     spread = TS.spread(reading="continuous").loc["max(|d_K|, |d_K-1| / 4)"]
@@ -281,7 +293,39 @@ def test_read_in_continuous_time_the_estimate_is_honest_on_the_set_computed_afte
     assert TS.spread().loc["max(|d_K|, |d_K-1| / 4)"].max() > 4
 
     def median_true(reading):
-        f = pd.concat([fine[reading, name] for name in TS.SETS])
+        f = pd.concat([fine[reading, name] for name in TS.SETS[:3]])
         return (f.true / f.reference.abs()).median()
 
     assert median_true("continuous") < 0.5 * median_true("samples")
+
+
+def test_the_solver_check_makes_the_continuous_estimate_honest_on_the_set_computed_after_it():
+    """The solver check, added after a look at the first three sets against references at
+    the scenes' own Newton tolerance: judged against the N = 800 references converged in
+    the solver (tol 1e-13), the continuous reading's estimate with the check covers at
+    least 95 % of the fine rung's true errors on the fourth set, defined and computed after
+    it (measured 96.7 %), and over all four sets (97.2 %), within 3 times in most (60 % and
+    61 %); without the check, against the old references, the fourth set is covered in
+    under 95 % (86.7 %).  Off the samples the estimate stays several times too large
+    (median overstatement above 3 on every set).  The check is what catches the tiny seeds:
+    its change exceeds the rungs' estimate in some scenes of every seed of 1e-14 N/m and
+    below, and in none of the larger seeds, the other rods or the loads."""
+    from dyntorsion.studies import solver_share as SS
+    from dyntorsion.studies import tolerance_study as TS
+
+    share = SS.solver_share()
+    before, after = (share[share.judged == v].set_index(["reading", "set"]) for v in SS.VARIANTS)
+    for name in (TS.SETS[3], "all"):
+        row = after.loc["continuous", name]
+        assert row["fine: covered"] >= 95 and row["within 3x"] > 50, row
+        assert row["kappa3 covered"] >= 95
+    assert after.loc["continuous", "all"].scenes == 246
+    assert before.loc["continuous", TS.SETS[3]]["fine: covered"] < 95
+    assert (after.loc["samples"]["overstatement, median"] > 3).all()
+    met, n = map(int, after.loc["continuous", TS.SETS[3]]["rtol 0.005: met"].split("/"))
+    assert met == n == 60
+    groups = SS.by_group()
+    above = groups["change above the estimate [% of scenes]"]
+    tiny = [g for g in groups.index if any(f"10⁻¹{d} " in g for d in "⁴⁵⁶⁷")]
+    assert len(tiny) == 4 and (above.loc[tiny] > 0).all()
+    assert (above.drop(tiny) == 0).all()
