@@ -6,6 +6,8 @@ import math
 
 import pandas as pd
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
 import dyntorsion
 from dyntorsion.app.cli import main
@@ -70,6 +72,19 @@ def test_the_solver_share_is_added_and_bad_values_are_refused(solver):
         assert T.error_estimate(v, reading, 0.25) == T.error_estimate(v, reading) + 0.25
         with pytest.raises(ValueError, match=r"solver=.* must be a finite number >= 0"):
             T.error_estimate(v, reading, solver)
+
+
+@given(solver=st.one_of(st.floats(max_value=-1e-300), st.sampled_from([math.nan, math.inf])))
+def test_any_negative_or_non_finite_solver_share_is_refused(solver):
+    with pytest.raises(ValueError, match=r"solver=.* must be a finite number >= 0"):
+        T.error_estimate([1.0, 1.5, 1.25], "continuous", solver)
+
+
+@given(solver=st.floats(min_value=0.0, max_value=1e6))
+def test_any_finite_solver_share_is_added_to_either_estimate(solver):
+    v = [3.0, 2.0, 2.5]
+    assert T.error_estimate(v, "continuous", solver) == 2 / 3 * max(0.5, 1 / 4) + solver
+    assert T.error_estimate(v, "samples", solver) == 1.0 + solver
 
 
 def test_the_solver_check_is_the_standard_rung_at_a_hundredth_of_the_tolerance():
@@ -329,3 +344,5 @@ def test_the_solver_check_makes_the_continuous_estimate_honest_on_the_set_comput
     tiny = [g for g in groups.index if any(f"10⁻¹{d} " in g for d in "⁴⁵⁶⁷")]
     assert len(tiny) == 4 and (above.loc[tiny] > 0).all()
     assert (above.drop(tiny) == 0).all()
+    # its price: one more standard run, a small part of the ladder (measured 15 %)
+    assert 0.05 < SS.check_cost() < 0.3

@@ -15,10 +15,12 @@ from pathlib import Path
 import pandas as pd
 
 from ..store.results import Store
-from .tolerance import READINGS
+from .presets import preset, solver_scenes
+from .sweep import run_sweep
+from .tolerance import READINGS, VOUCHED
 from .tolerance_study import SETS, chooser, pairs, solver_changes
 
-__all__ = ["VARIANTS", "by_group", "solver_share"]
+__all__ = ["VARIANTS", "by_group", "check_cost", "solver_share"]
 
 #: the two ways of judging the estimates: the rules from the rungs alone against the
 #: references at the scenes' Newton tolerance (as the first three sets were judged), and
@@ -105,3 +107,18 @@ def by_group(
             "above": "change above the estimate [% of scenes]",
         }
     )
+
+
+def check_cost(store: Store | str | Path | None = None, sets: tuple[str, ...] = SETS) -> float:
+    """The recorded wall time of the solver checks of the hold-out sets ``sets`` over that of
+    their rungs up to ``fine`` (the ladder a chooser that stops at ``fine`` runs)."""
+
+    def wall(scenes: list) -> pd.DataFrame:
+        return run_sweep(scenes, store, compute=False, on_stale="error", progress=False)
+
+    checks = wall(solver_scenes(sets)).wall_time_s.sum()
+    ladders = 0.0
+    for name in sets:
+        t = wall(preset(name))
+        ladders += t[t.n_cells <= VOUCHED].wall_time_s.sum()
+    return float(checks / ladders)
