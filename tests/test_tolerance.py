@@ -3,6 +3,7 @@ relative tolerance, with an a-posteriori error estimate that covers a converged 
 
 import json
 import math
+from dataclasses import replace
 
 import pandas as pd
 import pytest
@@ -13,6 +14,7 @@ import dyntorsion
 from dyntorsion.app.cli import main
 from dyntorsion.buckling.loading import AxialLoad, RampHold
 from dyntorsion.buckling.scene import Scene
+from dyntorsion.genalpha import Newton
 from dyntorsion.studies import fidelity
 from dyntorsion.studies import presets as P
 from dyntorsion.studies import tolerance as T
@@ -93,6 +95,9 @@ def test_the_solver_check_is_the_standard_rung_at_a_hundredth_of_the_tolerance()
     assert check.n_cells == standard.n_cells == 100 and check.dt == standard.dt
     assert check.newton.tol == sc.newton.tol * T.SOLVER_FACTOR == pytest.approx(1e-12)
     assert check.until == "first-peak" and check.seed == sc.seed
+    # never below the tightest tolerance the solve reaches, nor looser than the scene's own
+    for tol, checked in ((1e-6, 1e-8), (1e-12, 1e-13), (1e-13, 1e-13), (1e-14, 1e-14)):
+        assert T.solver_check(replace(sc, newton=Newton(tol=tol))).newton.tol == checked
     tight = P.preset("tolerance-reference-tight")
     assert {s.newton.tol for s in tight} == {T.REFERENCE_TOL}
     assert [s.n_cells for s in tight] == [s.n_cells for s in P.preset("tolerance-reference")]

@@ -202,9 +202,12 @@ def rungs(scene: Scene, count: int = len(CELLS)) -> list[Scene]:
 
 def solver_check(scene: Scene) -> Scene:
     """The solver check of ``scene`` (module docstring): its ``standard`` rung with the
-    Newton tolerance times :data:`SOLVER_FACTOR`."""
+    Newton tolerance times :data:`SOLVER_FACTOR`, but not below :data:`REFERENCE_TOL`, the
+    tightest the solve reaches (a scene already at or below it is checked at its own
+    tolerance: the change is then zero, the solver's share beyond it unmeasured)."""
     sc = rungs(scene, CELLS.index(SOLVER_RUNG) + 1)[-1]
-    return replace(sc, newton=replace(sc.newton, tol=sc.newton.tol * SOLVER_FACTOR))
+    tol = max(sc.newton.tol * SOLVER_FACTOR, min(sc.newton.tol, REFERENCE_TOL))
+    return replace(sc, newton=replace(sc.newton, tol=tol))
 
 
 def error_estimate(values: Sequence[float], reading: str = "samples", solver: float = 0.0) -> float:
