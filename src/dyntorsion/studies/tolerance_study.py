@@ -15,8 +15,12 @@ records.  The first set was computed with the estimate and the chooser fixed
 beforehand; the chooser's rule (vouch from ``fine``, not ``standard``) was then changed in
 view of it, and the second set computed afterwards.
 
+The fourth set tests the solver check (:mod:`~dyntorsion.studies.solver_share`: the
+estimates with the check's share, ``pairs(..., solver=True)``, against references
+converged in the solver, ``tight=True``).
+
 ``python -m dyntorsion.studies.tolerance_study`` computes the presets' missing records
-(one process) and prints the coverage tables.
+(one process, the references and solver checks included) and prints the coverage tables.
 """
 
 from __future__ import annotations
@@ -390,7 +394,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--rtol", type=float, default=0.005)
     args = ap.parse_args(argv)
     with pd.option_context("display.width", 200, "display.max_columns", 20):
-        run_sweep(preset("tolerance-reference"), args.store, jobs=1, progress=False)
+        for extra in ("tolerance-reference", "tolerance-reference-tight", "tolerance-solver"):
+            run_sweep(preset(extra), args.store, jobs=1, progress=False)
         for name in SETS:
             run_sweep(preset(name), args.store, jobs=1, progress=False)
             print(name)
