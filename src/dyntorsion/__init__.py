@@ -34,11 +34,12 @@ def run_scene(scene: Scene, rtol: float | None = None, **options: Any) -> dict[s
     Without ``rtol``: :func:`dyntorsion.buckling.scene.run_scene` on the scene's own grid.
     With ``rtol`` (a relative tolerance in (0, 1]): the scene's grid is replaced by the
     cheapest rung of the fidelity ladder whose estimated errors of t_c and kappa3 (the
-    rungs' differences and the solver check's change) meet it, :func:`dyntorsion.studies.tolerance.onset_within` (``options``: its
-    ``max_cells``, ``store``, ``compute``); the dict then holds ``t_c``, ``t_c_error``,
-    ``kappa3``, ``kappa3_error``, the grid (``rung``, ``n_cells``, ``dt``), ``met`` and
-    every rung run.  (The buckling layer cannot import the studies that choose the grid,
-    so the choice is made here, above both.)
+    rungs' differences and the solver check's change) meet it,
+    :func:`dyntorsion.studies.tolerance.onset_within` (``options``: its ``max_cells``,
+    ``store``, ``compute``, ``reading``: continuous time by default); the dict then holds
+    ``t_c``, ``t_c_error``, ``kappa3``, ``kappa3_error``, the grid (``rung``, ``n_cells``,
+    ``dt``), ``met``, every rung run and the solver check.  (The buckling layer cannot
+    import the studies that choose the grid, so the choice is made here, above both.)
     """
     if rtol is None:
         if options:
