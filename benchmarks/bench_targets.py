@@ -354,8 +354,10 @@ def main() -> None:
         ("issue 34: Fig 8 onset within 0.5 % (the fastest setting)", "fig8_fast_s", 0.010),
         ("issue 34: the same read in continuous time, dt=0.15 s", "fig8_fast_cont_s", 0.010),
         ("issue 34:   and Newton(theta_reuse=0.5)", "fig8_fast_half_s", 0.010),
-        ("issue 34: 16-rate sweep, each onset within 0.5 % (paced)", "fig10_paced_s", 0.3),
-        ("issue 34: the same in continuous time, 96 paced steps", "fig10_paced96_s", 0.3),
+        (f"issue 34: {now['fig10_scenes']}-rate sweep, each onset within 0.5 % (paced)",
+         "fig10_paced_s", 0.3 * now["fig10_scenes"] / 16),
+        ("issue 34: the same in continuous time, 96 paced steps", "fig10_paced96_s",
+         0.3 * now["fig10_scenes"] / 16),
         ("issue 34: same-grid Fig 8 step [us], half the baseline's", "fig8_step_us",
          0.5 * alternating["baseline"]),
     ]  # fmt: skip
