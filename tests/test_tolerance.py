@@ -89,6 +89,15 @@ def test_any_finite_solver_share_is_added_to_either_estimate(solver):
     assert T.error_estimate(v, "samples", solver) == 1.0 + solver
 
 
+def test_the_solver_checks_change_needs_two_buckled_runs_with_an_onset():
+    assert T.onset_change(("buckled", "buckled"), (2.5, 2.25)) == 0.25
+    for status, values in ((("buckled", "no-onset"), (2.5, 2.25)),
+                           (("failed", "buckled"), (2.5, 2.25)),
+                           (("buckled", "buckled"), (None, 2.25)),
+                           (("buckled", "buckled"), (2.5, math.nan))):  # fmt: skip
+        assert T.onset_change(status, values) is None
+
+
 def test_the_solver_check_is_the_standard_rung_at_a_hundredth_of_the_tolerance():
     sc = Scene(a=1.6, kappa0=10.0)
     check, standard = T.solver_check(sc), T.rungs(sc, 3)[-1]

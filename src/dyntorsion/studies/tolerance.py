@@ -108,6 +108,7 @@ __all__ = [
     "REFERENCE_TOL",
     "SOLVER_FACTOR",
     "solver_check",
+    "onset_change",
     "onset_within",
     "pacing_time",
     "rungs",
@@ -339,7 +340,8 @@ def onset_within(
         if best.met:
             return best
     assert best is not None
-    if best.t_c_error is None and (best.solver or {}).get("t_c_change", 0) is None:
+    rungs_buckled = sum(g["status"] == "buckled" and g["t_c"] is not None for g in best.grids)
+    if best.t_c_error is None and rungs_buckled >= 3 and best.grids[-1]["status"] == "buckled":
         note = "the solver check found no onset: no error estimate"
     elif best.t_c_error is None:
         note = f"fewer than three rungs up to N = {max_cells} buckled: no error estimate"
@@ -362,10 +364,19 @@ def _solver(
     out = {"n_cells": sc.n_cells, "dt": sc.dt, "newton_tol": sc.newton.tol,
            "status": res["status"], "t_c": res.get(f_t), "kappa3": res.get(f_k)}  # fmt: skip
     for q in ("t_c", "kappa3"):
-        ok = res["status"] == "buckled" and standard["status"] == "buckled"
-        ok = ok and out[q] is not None and standard[q] is not None
-        out[f"{q}_change"] = abs(out[q] - standard[q]) if ok else None
+        out[f"{q}_change"] = onset_change(
+            (res["status"], standard["status"]), (out[q], standard[q])
+        )
     return out
+
+
+def onset_change(status: tuple[str, str], values: tuple[Any, Any]) -> float | None:
+    """``|values[0] - values[1]|`` where both runs (``status``) buckled and both values are
+    there (not None or nan), else None: the solver check's change of an onset against its
+    ``standard`` rung."""
+    if tuple(status) != ("buckled", "buckled") or any(_missing(v) for v in values):
+        return None
+    return abs(float(values[0]) - float(values[1]))
 
 
 def _judge(

@@ -51,6 +51,7 @@ from .tolerance import (
     VOUCHED,
     check_reading,
     error_estimate,
+    onset_change,
     onset_within,
     rung_name,
 )
@@ -105,24 +106,25 @@ def _references(name: str, store: Store | str | Path | None, tight: bool = False
 
 
 def solver_changes(
-    name: str = SETS[0], store: Store | str | Path | None = None, reading: str = "samples"
+    name: str = SETS[0],
+    store: Store | str | Path | None = None,
+    reading: str = "samples",
+    table: pd.DataFrame | None = None,
 ) -> pd.DataFrame:
     """Per scene of the hold-out set ``name``: the change of t_c and kappa3 in its solver
     check (:func:`~dyntorsion.studies.tolerance.solver_check`) against its ``standard``
-    rung, the solver's share of the estimate (nan where either has no onset)."""
-    fields = check_reading(reading)
+    rung (:func:`~dyntorsion.studies.tolerance.onset_change`; nan where either has no
+    onset); ``table``: the set's records when already read."""
+    fields = dict(zip(("t_c", "kappa3"), check_reading(reading), strict=True))
     checks = run_sweep(solver_scenes((name,)), store, compute=False, on_stale="error",
                        progress=False)  # fmt: skip
-    table = _table(name, store)
-    k = CELLS.index(SOLVER_RUNG)
-    std = table.iloc[k :: len(CELLS)].reset_index(drop=True)
-    ok = (std.status == "buckled").to_numpy() & (checks.status == "buckled").to_numpy()
-    return pd.DataFrame(
-        {
-            q: np.where(ok, np.abs(std[f].to_numpy(float) - checks[f].to_numpy(float)), np.nan)
-            for q, f in zip(("t_c", "kappa3"), fields, strict=True)
-        }  # fmt: skip
-    )
+    table = _table(name, store) if table is None else table
+    std = table.iloc[CELLS.index(SOLVER_RUNG) :: len(CELLS)].reset_index(drop=True)
+    rows = [
+        {q: onset_change((a.status, b.status), (a[f], b[f])) for q, f in fields.items()}
+        for (_, a), (_, b) in zip(std.iterrows(), checks.iterrows(), strict=True)
+    ]
+    return pd.DataFrame(rows, dtype=float)
 
 
 def pairs(
@@ -141,7 +143,7 @@ def pairs(
     it); ``tight``: against the references converged in the solver too."""
     fields = dict(zip(("t_c", "kappa3"), check_reading(reading), strict=True))
     table, refs = _table(name, store), _references(name, store, tight)
-    share = solver_changes(name, store, reading) if solver else None
+    share = solver_changes(name, store, reading, table) if solver else None
     rows = []
     for i, sc in enumerate(holdout_scenes(name)):
         block = table.iloc[i * len(CELLS) : (i + 1) * len(CELLS)]
