@@ -40,6 +40,16 @@ def test_sweep_and_fit_of_a_steel_rod_use_the_steel_rod(tmp_path, capsys):
     assert abs(b - table1.b) > 0.1 * b  # what the old CLI printed (Table 1's c and kappa_cri)
     assert f"kappa_cri = {critical_twist(STEEL):.4f}" in line
     assert fitted.splitlines()[0] in swept  # sweep prints the same fit
+    # --no-fit (make data): the same table from the records, no fit
+    assert main(["sweep", "--rates", rates, "--kappa0", "10", *STEEL_CLI, "--store", store,
+                 "--quiet", "--no-fit"]) == 0  # fmt: skip
+    quiet = capsys.readouterr().out
+    assert "fit " not in quiet and quiet.splitlines()[0] in swept
+    rows = quiet.splitlines()[1:]
+    assert len(rows) == 4 and all(r.endswith("buckled    True") for r in rows)  # cached
+    assert [r.rsplit(None, 1)[0] for r in rows] == [
+        r.rsplit(None, 1)[0] for r in swept.splitlines()[1:5]
+    ]
 
 
 def test_fit_says_why_below_four_rates(tmp_path, capsys):

@@ -160,7 +160,8 @@ def _sweep(args: argparse.Namespace) -> int:
     ]
     with np.printoptions(precision=4):
         print(table[cols].to_string(index=False, float_format=lambda v: f"{v:.5g}"))
-    print_fit(fit_rows(table, scenes))
+    if not args.no_fit:
+        print_fit(fit_rows(table, scenes))
     return 0
 
 
@@ -299,6 +300,12 @@ def parser() -> argparse.ArgumentParser:
         help="a damaged record: move it aside (.corrupt) and recompute, or stop with an error",
     )
     s.add_argument("--quiet", action="store_true", help="no progress bar or log")
+    s.add_argument(
+        "--no-fit",
+        action="store_true",
+        help="do not fit eq (33) to the sweeps (bootstrapped: seconds a sweep); "
+        "`dyntorsion fit` fits them from the records later",
+    )
     add_rtol_options(s)
     s.set_defaults(func=_sweep)
 

@@ -167,7 +167,8 @@ if __name__ == "__main__":  # make data
 
     parser = argparse.ArgumentParser(description="compute the consistency map's scenes")
     parser.add_argument("--jobs", type=int, default=1)
+    parser.add_argument("--on-stale", choices=("recompute", "error"), default="recompute")
     args = parser.parse_args()
     for name in PRESETS:
-        df = table(name, compute=True, jobs=args.jobs, progress=None)
+        df = table(name, compute=args.on_stale == "recompute", jobs=args.jobs, progress=None)
         print(f"{name}: {len(df) // len(RULES)} scenes")
