@@ -19,7 +19,8 @@ estimate 30 % off costs 30 % more or fewer steps, never a different onset rule.
 The defaults (384 steps, tol 1e-6) are measured on the 16 rates of Fig 10: every
 t_c within 0.11 % of the standard grid's (at most +0.112 %), whose own error against the converged onset
 is up to 0.52 % (the paced sweep's up to 0.48 %; "Accuracy and cost" page,
-``benchmarks/bench_paced.py``), in an eighth of the steps and a sixth of the time.  They are a measured choice for the Table 1 rod, not a guarantee for
+``benchmarks/bench_paced.py``), in a fraction of the steps and of the time (that page counts
+both).  They are a measured choice for the Table 1 rod, not a guarantee for
 another: check a new rod or load against the standard grid on a few rates first.
 """
 
