@@ -167,7 +167,12 @@ if __name__ == "__main__":  # make data
 
     parser = argparse.ArgumentParser(description="compute the consistency map's scenes")
     parser.add_argument("--jobs", type=int, default=1)
-    parser.add_argument("--on-stale", choices=("recompute", "error"), default="recompute")
+    parser.add_argument(
+        "--on-stale",
+        choices=("recompute", "error"),
+        default="recompute",
+        help="error: refuse a stale or missing record instead of computing it",
+    )
     args = parser.parse_args()
     for name in PRESETS:
         df = table(name, compute=args.on_stale == "recompute", jobs=args.jobs, progress=None)

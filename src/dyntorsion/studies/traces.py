@@ -85,7 +85,12 @@ if __name__ == "__main__":  # make data
     import argparse
 
     parser = argparse.ArgumentParser(description="compute the traces of the three scenes")
-    parser.add_argument("--on-stale", choices=("recompute", "error"), default="recompute")
+    parser.add_argument(
+        "--on-stale",
+        choices=("recompute", "error"),
+        default="recompute",
+        help="error: refuse a stale or missing record instead of computing it",
+    )
     compute = parser.parse_args().on_stale == "recompute"
     for scene, rec in zip(SCENES, load(compute=compute), strict=True):
         print(f"{scene.label()}: {len(rec['t'])} samples to t = {rec['t'][-1]:.4f} s")
