@@ -6,7 +6,6 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterable
 from dataclasses import replace
-from functools import cache
 from pathlib import Path
 from typing import Any
 
@@ -114,17 +113,10 @@ TENSION_RATES: tuple[float, ...] = FIG10_RATES[::3]
 
 def tension_scenes(fraction: float, rates: Iterable[float] = TENSION_RATES) -> list[Scene]:
     """The rate sweep at axial load ``fraction`` x the clamped Euler load (Table 1 rod)."""
-    T, kappa0 = _load_and_pretwist(float(fraction))
-    return [Scene(a=a, kappa0=kappa0, tension=T, seed=SEEDS["stated"]) for a in rates]
-
-
-@cache
-def _load_and_pretwist(fraction: float) -> tuple[float, float]:
-    """The axial load of :func:`tension_scenes` and its pretwist (a clamped Greenhill
-    solve each, about 0.4 s: the presets ask for the same loads many times)."""
     rod = Rod()
     T = fraction * euler_load(rod, "clamped")
-    return T, 10.0 if T == 0.0 else 10.0 * critical_twist(rod, T) / critical_twist(rod)
+    kappa0 = 10.0 if T == 0.0 else 10.0 * critical_twist(rod, T) / critical_twist(rod)
+    return [Scene(a=a, kappa0=kappa0, tension=T, seed=SEEDS["stated"]) for a in rates]
 
 
 def _newton(a: float, kappa0: float, seed: str = "stated") -> list[Scene]:
