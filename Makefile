@@ -67,9 +67,8 @@ DATA_PRESETS := fig10 fig10-tiny-seed fig10-paced fig08-09 fig08-09-tiny-seed fi
                 tolerance-holdout tolerance-holdout-2 tolerance-holdout-3 tolerance-holdout-4 \
                 tolerance-reference tolerance-reference-tight tolerance-solver
 LINEAR_PRESETS := linear-fig10 linear-fig10-tiny-seed linear-imperfection linear-variants
-## ON_STALE=error: stop at a stale record instead of recomputing it (the sweeps and the
-## linear predictions still compute missing ones, the traces and the consistency map refuse
-## them too); the bench times `make data` so, with every record current
+## ON_STALE=error: stop at a stale record instead of recomputing it (missing ones are
+## computed); the bench times `make data` so, with every record current
 ON_STALE ?= recompute
 data: $(VENV)/.test-installed
 	$(BIN)/dyntorsion sweep $(foreach p,$(DATA_PRESETS),--preset $(p)) --jobs $(JOBS) --no-fit --on-stale $(ON_STALE)

@@ -1,31 +1,50 @@
 """`make data`'s steps with ``--on-stale error`` (the bench times `make data` so): the
-traces and the consistency map refuse a store that lacks their records instead of
-computing them, and say what to run."""
+traces and the consistency map, like the sweeps, read a current store without computing
+anything and stop at a stale record instead of recomputing it."""
 
 from __future__ import annotations
 
+import json
 import os
+import shutil
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
+from dyntorsion.store.location import default_store
 
-@pytest.mark.parametrize("module", ["traces", "consistency"])
-def test_on_stale_error_refuses_a_missing_record(module, tmp_path):
-    env = {**os.environ, "DYNTORSION_DATA": str(tmp_path)}
-    done = subprocess.run(
-        [sys.executable, "-m", f"dyntorsion.studies.{module}", "--on-stale", "error"],
-        capture_output=True, text=True, env=env, timeout=300,
+KINDS = {"traces": "onset-trace", "consistency": "onset-rules"}
+
+
+def _run(module: str, store: Path, choice: str) -> subprocess.CompletedProcess:
+    return subprocess.run(
+        [sys.executable, "-m", f"dyntorsion.studies.{module}", "--on-stale", choice],
+        capture_output=True, text=True, timeout=600,
+        env={**os.environ, "DYNTORSION_DATA": str(store)},
     )  # fmt: skip
-    assert done.returncode != 0
-    assert "make data" in done.stderr, done.stderr[-400:]
-    assert not any(tmp_path.rglob("*.json"))  # nothing computed
 
 
-def test_on_stale_refuses_an_unknown_choice():
-    done = subprocess.run(
-        [sys.executable, "-m", "dyntorsion.studies.traces", "--on-stale", "later"],
-        capture_output=True, text=True, timeout=300,
-    )  # fmt: skip
+@pytest.mark.parametrize("module", sorted(KINDS))
+def test_on_stale_error_reads_a_current_store_and_stops_at_a_stale_record(module, tmp_path):
+    records = sorted(default_store().glob(f"{KINDS[module]}-*.json"))
+    assert records, "the committed records are missing"
+    for path in records:
+        shutil.copy(path, tmp_path)
+    before = {p.name: p.read_bytes() for p in tmp_path.iterdir()}
+    done = _run(module, tmp_path, "error")
+    assert done.returncode == 0, done.stderr[-400:]
+    assert {p.name: p.read_bytes() for p in tmp_path.iterdir()} == before  # nothing computed
+    stale = tmp_path / records[0].name
+    rec = json.loads(stale.read_text())
+    rec["provenance"]["code"] = "0" * 16  # computed by other code: stale
+    stale.write_text(json.dumps(rec))
+    done = _run(module, tmp_path, "error")
+    assert done.returncode != 0 and "stale" in done.stderr, done.stderr[-400:]
+    assert json.loads(stale.read_text()) == rec  # refused, not recomputed
+
+
+def test_on_stale_refuses_an_unknown_choice(tmp_path):
+    done = _run("traces", tmp_path, "later")
     assert done.returncode == 2 and "--on-stale" in done.stderr

@@ -139,12 +139,14 @@ def table(
     store: Store | str | Path | None = None,
     *,
     compute: bool = False,
+    on_stale: str = "recompute",
     jobs: int = 1,
     progress: bool | None = False,
 ) -> pd.DataFrame:
     """One row per scene of the named set and onset rule (columns ``a, kappa0, rho, seed,
     form, n_cells, dt, status, rule, t_c, kappa3``), read from ``store``; with
-    ``compute=True`` missing or stale scenes are simulated on ``jobs`` processes."""
+    ``compute=True`` missing or stale scenes are simulated on ``jobs`` processes (a stale
+    one refused instead with ``on_stale="error"``)."""
     scs = scenes(name)
     records = cached_map(
         scs,
@@ -152,7 +154,7 @@ def table(
         KIND,
         store,
         jobs=jobs,
-        on_stale="recompute" if compute else "error",
+        on_stale=on_stale if compute else "error",
         compute=compute,
         progress=progress,
         command="python -m dyntorsion.studies.consistency",
@@ -165,15 +167,12 @@ def table(
 if __name__ == "__main__":  # make data
     import argparse
 
+    from ..store.results import ON_STALE
+
     parser = argparse.ArgumentParser(description="compute the consistency map's scenes")
     parser.add_argument("--jobs", type=int, default=1)
-    parser.add_argument(
-        "--on-stale",
-        choices=("recompute", "error"),
-        default="recompute",
-        help="error: refuse a stale or missing record instead of computing it",
-    )
+    parser.add_argument("--on-stale", choices=ON_STALE, default="recompute")
     args = parser.parse_args()
     for name in PRESETS:
-        df = table(name, compute=args.on_stale == "recompute", jobs=args.jobs, progress=None)
+        df = table(name, compute=True, on_stale=args.on_stale, jobs=args.jobs, progress=None)
         print(f"{name}: {len(df) // len(RULES)} scenes")

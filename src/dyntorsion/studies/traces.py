@@ -57,11 +57,13 @@ def load(
     store: Store | str | None = None,
     *,
     compute: bool = False,
+    on_stale: str = "recompute",
     modes: int = 16,
     samples: int = 1200,
 ) -> list[dict[str, Any]]:
     """The trace records of ``scenes`` from ``store`` (default data/scenes); missing or
-    stale ones are computed with ``compute=True`` and refused otherwise."""
+    stale ones are computed with ``compute=True`` (a stale one refused with
+    ``on_stale="error"``) and refused otherwise."""
     store = (
         Store(default_store() if store is None else store)
         if not isinstance(store, Store)
@@ -70,7 +72,7 @@ def load(
     out = []
     for sc in scenes:
         params = _params(sc, modes, samples)
-        rec = store.load(KIND, params, on_stale="recompute" if compute else "error")
+        rec = store.load(KIND, params, on_stale=on_stale if compute else "error")
         if rec is None:
             if not compute:
                 raise LookupError(
@@ -84,13 +86,10 @@ def load(
 if __name__ == "__main__":  # make data
     import argparse
 
+    from ..store.results import ON_STALE
+
     parser = argparse.ArgumentParser(description="compute the traces of the three scenes")
-    parser.add_argument(
-        "--on-stale",
-        choices=("recompute", "error"),
-        default="recompute",
-        help="error: refuse a stale or missing record instead of computing it",
-    )
-    compute = parser.parse_args().on_stale == "recompute"
-    for scene, rec in zip(SCENES, load(compute=compute), strict=True):
+    parser.add_argument("--on-stale", choices=ON_STALE, default="recompute")
+    args = parser.parse_args()
+    for scene, rec in zip(SCENES, load(compute=True, on_stale=args.on_stale), strict=True):
         print(f"{scene.label()}: {len(rec['t'])} samples to t = {rec['t'][-1]:.4f} s")
