@@ -23,6 +23,8 @@ the torsional waves alternate), a secant (Anderson(1)) step in the simplified it
 (5.54), and building the explicit operators after 20 solves instead of 4 (3 % less by the
 counts here, about 13 % at dt = 0.05 s and tol 1e-6; not resolvable on the loaded machine,
 not adopted).
+Anderson acceleration with a secant memory, an adaptive extrapolation predictor and a
+cost rule for renewing the factors: ``benchmarks/probe_newton_strategies.py`` (none pays).
 """
 
 from __future__ import annotations
