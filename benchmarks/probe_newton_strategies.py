@@ -29,10 +29,11 @@ correction of a step, with unnormalised pairs, took 6.4-7.0); the adaptive predi
 (at a Courant number c dt / ds of about 58 the torsional waves are not resolved in time,
 so the levels do not extrapolate); renewing the factors by the cost rule 4.24 (K = 2) and
 4.79 (K = 4) corrections a step for 376 and 268 factorisations against 168 (a
-factorisation costs about seven corrections).  With fresh factors a step still takes
-about four corrections (the first leaves about 1e-5, the quadratic term of a correction
-of 0.1), so no reuse strategy can halve the step: that needs each residual, solve and
-factorisation to cost less.  The wall times (``--timing``: 159-232 ms, today's 194 ms)
+factorisation costs about seven corrections).  None comes near half the step: even full
+Newton takes 3.0 to 4.3 corrections a step (``bench_targets.py``; the first leaves about
+1e-5, the quadratic term of a correction of 0.1), and fresher factors cost more than the
+corrections they save; halving the step needs each residual, solve and factorisation to
+cost less.  The wall times (``--timing``: 159-232 ms, today's 194 ms)
 are within this machine's noise.
 """
 
