@@ -12,8 +12,8 @@ each round of 5000 solves, the smallest median of the rounds printed):
 * the same loops with the sizes as compile-time constants (what
   ``benchmarks/patches/abd_fixed_sizes.patch`` does for the LU, which it halves); the
   result is checked to be the same to the last bit;
-* the operators ``HK`` and ``G`` stored in float32 and applied with float64 accumulators
-  (the simplified Newton iteration uses the factors only to contract, so their rounding
+* today's ``solve_explicit`` compiled for operators ``HK`` and ``G`` stored in float32
+  (float64 accumulators; the simplified Newton iteration uses the factors only to contract, so their rounding
   would move the converged step by no more than the tolerance; the relative difference of
   one solve is printed).
 
@@ -67,48 +67,14 @@ def solve_fixed(fac, rhs, x):
 
 
 @jit
-def solve_single(HK, G, fac, rhs, x):
-    """``solve_explicit`` with float32 operators HK, G (float64 accumulators)."""
-    n_cells, m, _ = HK.shape
-    nf = G.shape[1]
-    nbl = m - nf
-    v = fac.v
-    out = v[m:]
-    for r in range(nbl):
-        v[r] = rhs[r]
-    for b in range(n_cells):
-        off = nbl + nf * b
-        for r in range(nf):
-            v[nbl + r] = rhs[off + r]
-        HKb = HK[b]
-        for q in range(m):
-            out[q] = 0.0
-        for c in range(m):
-            vc = v[c]
-            for q in range(m):
-                out[q] += HKb[c, q] * vc
-        for q in range(nf):
-            x[b, q] = out[q]
-        for r in range(nbl):
-            v[r] = out[nf + r]
-    _last_node(fac, rhs, x)
-    for b in range(n_cells - 1, -1, -1):
-        Gb, xb, xn = G[b], x[b], x[b + 1]
-        for c in range(nf):
-            xc = xn[c]
-            for q in range(nf):
-                xb[q] -= Gb[c, q] * xc
-
-
-@jit
-def _repeat(which, fac, HK32, G32, rhs, x, n):
+def _repeat(which, fac, fac32, rhs, x, n):
     for _ in range(n):
         if which == 0:
             solve_explicit(fac, rhs, x)
         elif which == 1:
             solve_fixed(fac, rhs, x)
         else:
-            solve_single(HK32, G32, fac, rhs, x)
+            solve_explicit(fac32, rhs, x)
 
 
 def main() -> None:
@@ -123,12 +89,12 @@ def main() -> None:
     if factor(BL, A, B, BR, fac) >= 0:
         raise RuntimeError("singular test matrix")
     explicit(fac)
-    HK32, G32 = fac.HK.astype(np.float32), fac.G.astype(np.float32)
+    fac32 = fac._replace(HK=fac.HK.astype(np.float32), G=fac.G.astype(np.float32))
     rhs = rng.standard_normal(NF * (N + 1))
     names = ["today's solve_explicit", "sizes as constants", "float32 operators"]
     xs = [np.zeros((N + 1, NF)) for _ in names]
     for k, x in enumerate(xs):
-        _repeat(k, fac, HK32, G32, rhs, x, 1)
+        _repeat(k, fac, fac32, rhs, x, 1)
     print(f"sizes as constants, the same solution to the last bit: "
           f"{'yes' if np.array_equal(xs[0], xs[1]) else 'NO'}")  # fmt: skip
     rel = np.abs(xs[2] - xs[0]).max() / np.abs(xs[0]).max()
@@ -140,7 +106,7 @@ def main() -> None:
             ts = []
             for _ in range(5):
                 t = time.perf_counter()
-                _repeat(k, fac, HK32, G32, rhs, x, reps)
+                _repeat(k, fac, fac32, rhs, x, reps)
                 ts.append((time.perf_counter() - t) / reps)
             best[k] = min(best[k], statistics.median(ts))
     for name, v in zip(names, best, strict=True):
