@@ -32,12 +32,11 @@ one small difference.  The price is paid where the convergence is clean: for an 
 second-order sequence the estimate is 12 times the error (abs(d_{K-1}) = 4 abs(d_K) = 12 e_K).
 Rules that trust the last difference when the sequence looks regular fail on measured
 sequences (the Fig 10 scene at a = 1.09 with the 1e-17 N/m seed, read off the samples:
-18.2875, 18.3589, 18.3622, 18.3551 s on N = 25..200, against 18.3556 s on N = 400).
-Two rungs give no
-estimate: the coarse and ``quick`` rungs agree by coincidence too often (measured:
-the Fig 8 scene, 14.7483 s and 14.7480 s, against 14.6939 s on the finest grid of the
-accuracy ladder, N = 400, dt = 0.00125 s, all read off the samples).  Nor is the
-``standard`` rung vouched for, although three rungs give it an estimate: on the first
+18.2875, 18.3589, 18.3622, 18.3551 s on N = 25..200, against 18.3556 s on N = 400).  Two
+rungs give no estimate: the coarse and ``quick`` rungs agree by coincidence too often (the
+Fig 8 scene, 14.7483 s and 14.7480 s, against 14.6939 s on the accuracy ladder's finest
+grid, N = 400, dt = 0.00125 s, all read off the samples).  Nor is the ``standard`` rung
+vouched for, although three rungs give it an estimate: on the first
 hold-out set (computed with this estimate fixed beforehand) a few of its estimates
 missed, every one of them a jump between N = 100 and 200 that the rungs below did not
 foreshadow ("Accuracy and cost" page), so the cheapest rung that can be vouched for is
@@ -49,8 +48,7 @@ perturbation the Newton solve leaves at its tolerance (default 1e-10, scaled cor
 acts as a seed as well, and the onset moves with the tolerance by more than the grid
 moves it (the Fig 10 scene at a = 1.09, seed 1e-17 N/m, N = 200, read in continuous
 time: 18.3577, 18.3546, 18.3521, 18.3505, 18.3497 s at tol = 1e-9 .. 1e-13; no rung
-difference sees that).  So
-:func:`onset_within` runs the ``standard`` rung once more with the tolerance times
+difference sees that).  So :func:`onset_within` runs the ``standard`` rung once more with the tolerance times
 :data:`SOLVER_FACTOR` (:func:`solver_check`) and adds the change of the onset to the
 estimate.  On the hold-out sets the change is at most 0.2 % of the rungs' estimate for
 seeds of 1e-10 N/m and up (and the other rods and the loads, at the stated seed), and up
