@@ -39,9 +39,7 @@ import platform
 import statistics
 import subprocess
 import sys
-import tempfile
 import time
-from pathlib import Path
 
 import numpy as np
 
@@ -52,6 +50,7 @@ from dyntorsion.buckling.scene import Scene
 from dyntorsion.genalpha.discrete import setup
 from dyntorsion.genalpha.scheme import Scheme
 from dyntorsion.model.cosserat import Cosserat
+from worktree import ROOT, checkout
 
 
 def median_ms(fn, *args, repeats: int = 7) -> float:
@@ -90,7 +89,6 @@ def case(n: int, k: int, rng):
     return w, fac, U, G
 
 
-ROOT = Path(__file__).resolve().parents[1]
 #: this checkout's benchmarks: the scene is ``plectoneme_dyntorsion.contact_scene`` in both
 #: trees (one place for it), run with the package of each
 BENCH = str(ROOT / "benchmarks")
@@ -115,23 +113,17 @@ def alternate(
     """``code`` run with this checkout's ``src`` and ``baseline``'s (a temporary git
     worktree) in alternating subprocesses, ``rounds`` times each, after one run of each
     with ``warm`` (compiling its kernels) when given: the JSON each printed last."""
-    with tempfile.TemporaryDirectory() as tmp:
-        wt = Path(tmp) / "baseline"
-        subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "--detach", "-q", str(wt),
-                        baseline], check=True)  # fmt: skip
+    with checkout(baseline) as wt:
         trees = (ROOT / "src", wt / "src")
-        try:
-            out = {"this checkout": [], f"baseline {baseline}": []}
-            for src in trees if warm is not None else ():
-                subprocess.run([sys.executable, "-c", code, str(src), *warm], check=True,
-                               capture_output=True)  # fmt: skip
-            for _ in range(max(rounds, 1)):
-                for key, src in zip(out, trees, strict=True):
-                    run = subprocess.run([sys.executable, "-c", code, str(src), *args],
-                                         check=True, capture_output=True, text=True)  # fmt: skip
-                    out[key].append(json.loads(run.stdout.strip().splitlines()[-1]))
-        finally:
-            subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force", str(wt)])
+        out = {"this checkout": [], f"baseline {baseline}": []}
+        for src in trees if warm is not None else ():
+            subprocess.run([sys.executable, "-c", code, str(src), *warm], check=True,
+                           capture_output=True)  # fmt: skip
+        for _ in range(max(rounds, 1)):
+            for key, src in zip(out, trees, strict=True):
+                run = subprocess.run([sys.executable, "-c", code, str(src), *args],
+                                     check=True, capture_output=True, text=True)  # fmt: skip
+                out[key].append(json.loads(run.stdout.strip().splitlines()[-1]))
     return out
 
 

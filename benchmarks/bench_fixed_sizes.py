@@ -31,10 +31,10 @@ import argparse
 import json
 import subprocess
 import sys
-import tempfile
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
+from worktree import ROOT, checkout
+
 PATCH = ROOT / "benchmarks" / "patches" / "abd_fixed_sizes.patch"
 
 RUN = """
@@ -76,24 +76,14 @@ def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--rounds", type=int, default=5, help="alternating timing rounds")
     args = p.parse_args()
-    with tempfile.TemporaryDirectory() as tmp:
-        trees = {"today": Path(tmp) / "today", "fixed sizes": Path(tmp) / "fixed"}
-        for wt in trees.values():
-            subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "--detach", "-q", str(wt),
-                            "HEAD"], check=True)  # fmt: skip
-        try:
-            subprocess.run(
-                ["git", "-C", str(trees["fixed sizes"]), "apply", str(PATCH)], check=True
-            )
-            checks = {k: _run(wt / "src", "check") for k, wt in trees.items()}
-            best = {k: {"step_us": float("inf"), "fast_ms": float("inf")} for k in trees}
-            for _ in range(args.rounds):
-                for k, wt in trees.items():
-                    for key, v in _run(wt / "src", "time").items():
-                        best[k][key] = min(best[k][key], v)
-        finally:
-            for wt in trees.values():
-                subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force", str(wt)])
+    with checkout() as today, checkout(patch=PATCH) as fixed:
+        trees = {"today": today, "fixed sizes": fixed}
+        checks = {k: _run(wt / "src", "check") for k, wt in trees.items()}
+        best = {k: {"step_us": float("inf"), "fast_ms": float("inf")} for k in trees}
+        for _ in range(args.rounds):
+            for k, wt in trees.items():
+                for key, v in _run(wt / "src", "time").items():
+                    best[k][key] = min(best[k][key], v)
     same = checks["today"] == checks["fixed sizes"]
     print(f"the same numbers to the last bit: {'yes' if same else 'NO'}")
     for k, v in checks["today"].items():

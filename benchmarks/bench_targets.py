@@ -58,11 +58,10 @@ import argparse
 import json
 import subprocess
 import sys
-import tempfile
 import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
+from worktree import ROOT, checkout
 
 
 def ladder_t_c(preset: str, n_cells: int, dt: float, reading: str = "t_c") -> float:
@@ -349,17 +348,9 @@ def main() -> None:
     args = p.parse_args()
     start = time.perf_counter()
     now = measure(ROOT / "src", args.quick)
-    with tempfile.TemporaryDirectory() as tmp:
-        wt = Path(tmp) / "baseline"
-        subprocess.run(
-            ["git", "-C", str(ROOT), "worktree", "add", "--detach", "-q", str(wt), args.baseline],
-            check=True,
-        )
-        try:
-            base = measure(wt / "src", args.quick)
-            alternating = per_step_alternating({"now": ROOT / "src", "baseline": wt / "src"})
-        finally:
-            subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force", str(wt)])
+    with checkout(args.baseline) as wt:
+        base = measure(wt / "src", args.quick)
+        alternating = per_step_alternating({"now": ROOT / "src", "baseline": wt / "src"})
     # the same-grid step in alternating rounds: back to back, the same code measured
     # 0.33 of itself under the load of another job (2026-11-25)
     now["fig8_step_us"], base["fig8_step_us"] = alternating["now"], alternating["baseline"]

@@ -23,15 +23,15 @@ Nothing is asserted.
 
 What it found (2026-11-28, one run; t_c 14.739877 s in every variant): none pays.
 Anderson with m = 2, 4, 8: 5.72, 5.50 and 5.54 corrections a step against today's 5.65
-(the contraction of about 0.03-0.1 a correction after the first does not come from a few
-modes that a secant memory could learn; a first version that also accelerated the first
+(the contraction of about 0.03-0.1 a correction after the first is not one that a memory
+of a few secant pairs learns; a first version that also accelerated the first
 correction of a step, with unnormalised pairs, took 6.4-7.0); the adaptive predictor 5.62
 (at a Courant number c dt / ds of about 58 the torsional waves are not resolved in time,
 so the levels do not extrapolate); renewing the factors by the cost rule 4.24 (K = 2) and
 4.79 (K = 4) corrections a step for 376 and 268 factorisations against 168 (a
 factorisation costs about seven corrections).  None comes near half the step: even full
-Newton takes 3.0 to 4.3 corrections a step (``bench_targets.py``; the first leaves about
-1e-5, the quadratic term of a correction of 0.1), and fresher factors cost more than the
+Newton takes 3.0 to 4.3 corrections a step (``bench_targets.py``; the first correction,
+0.1 to 7 in the scaled norm, leaves about 1e-5), and fresher factors cost more than the
 corrections they save; halving the step needs each residual, solve and factorisation to
 cost less.  The wall times (``--timing``: 159-232 ms, today's 194 ms)
 are within this machine's noise.
@@ -44,10 +44,9 @@ import json
 import os
 import subprocess
 import sys
-import tempfile
-from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
+from worktree import ROOT, checkout
+
 PATCH = ROOT / "benchmarks" / "patches" / "newton_strategies.patch"
 
 VARIANTS = {
@@ -87,32 +86,23 @@ def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--timing", action="store_true", help="also a median wall time")
     args = p.parse_args()
-    with tempfile.TemporaryDirectory() as tmp:
-        wt = Path(tmp) / "tree"
-        subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "--detach", "-q", str(wt),
-                        "HEAD"], check=True)  # fmt: skip
-        try:
-            subprocess.run(["git", "-C", str(wt), "apply", str(PATCH)], check=True)
-            print(f"{'variant':22s} {'t_c [s]':>10s} {'corr/step':>9s}  by phase "
-                  f"[0,5) [5,10) [10,13) [13,15) [15,18)  {'LU':>4s}"
-                  + ("   ms" if args.timing else ""))  # fmt: skip
-            for i, (name, env) in enumerate(VARIANTS.items()):
-                env = os.environ | env | {"NUMBA_CACHE_DIR": str(Path(tmp) / f"numba{i}")}
-                res = subprocess.run(
-                    [sys.executable, "-c", RUN, str(wt / "src"), "1" if args.timing else "0"],
-                    capture_output=True,
-                    text=True,
-                    check=True,
-                    env=env,
-                ).stdout
-                o = json.loads(res.strip().splitlines()[-1])
-                ph = " ".join(f"{v:5.2f}" for v in o["phases"])
-                ms = f" {o['ms']:6.1f}" if args.timing else ""
-                print(
-                    f"{name:22s} {o['t_c']:10.6f} {o['per_step']:9.2f}  {ph:38s} {o['lu']:4d}{ms}"
-                )
-        finally:
-            subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force", str(wt)])
+    with checkout(patch=PATCH) as wt:
+        print(f"{'variant':22s} {'t_c [s]':>10s} {'corr/step':>9s}  by phase "
+              f"[0,5) [5,10) [10,13) [13,15) [15,18)  {'LU':>4s}"
+              + ("   ms" if args.timing else ""))  # fmt: skip
+        for i, (name, env) in enumerate(VARIANTS.items()):
+            env = os.environ | env | {"NUMBA_CACHE_DIR": str(wt.parent / f"numba{i}")}
+            res = subprocess.run(
+                [sys.executable, "-c", RUN, str(wt / "src"), "1" if args.timing else "0"],
+                capture_output=True,
+                text=True,
+                check=True,
+                env=env,
+            ).stdout
+            o = json.loads(res.strip().splitlines()[-1])
+            ph = " ".join(f"{v:5.2f}" for v in o["phases"])
+            ms = f" {o['ms']:6.1f}" if args.timing else ""
+            print(f"{name:22s} {o['t_c']:10.6f} {o['per_step']:9.2f}  {ph:38s} {o['lu']:4d}{ms}")
 
 
 if __name__ == "__main__":
