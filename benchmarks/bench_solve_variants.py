@@ -5,8 +5,8 @@
 
 At N = 50 (12 fields, 6 given at the twisted end) a solve with the explicit operators is
 a correction's larger half (``benchmarks/profile_fig08.py``).  Compared here, on the
-factors of a random well-conditioned staircase matrix, in alternating rounds (medians of
-each round of 5000 solves, the smallest median of the rounds printed):
+factors of a random well-conditioned staircase matrix, in alternating rounds (in each
+round the median of five timings of 5000 solves; the smallest over the rounds printed):
 
 * today's ``solve_explicit`` (sizes read from the arrays);
 * the same loops with the sizes as compile-time constants (what

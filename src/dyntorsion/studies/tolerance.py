@@ -48,8 +48,8 @@ perturbation the Newton solve leaves at its tolerance (default 1e-10, scaled cor
 acts as a seed as well, and the onset moves with the tolerance by more than the grid
 moves it (the Fig 10 scene at a = 1.09, seed 1e-17 N/m, N = 200, read in continuous
 time: 18.3577, 18.3546, 18.3521, 18.3505, 18.3497 s at tol = 1e-9 .. 1e-13; no rung
-difference sees that).  So :func:`onset_within` runs the ``standard`` rung once more with the tolerance times
-:data:`SOLVER_FACTOR` (:func:`solver_check`) and adds the change of the onset to the
+difference sees that).  So :func:`onset_within` runs the ``standard`` rung once more
+with the tolerance times :data:`SOLVER_FACTOR` (:func:`solver_check`) and adds the change of the onset to the
 estimate.  On the hold-out sets the change is at most 0.2 % of the rungs' estimate for
 seeds of 1e-10 N/m and up (and the other rods and the loads, at the stated seed), and up
 to 30 times it at 1e-17 N/m (continuous reading, ``fine`` rung).  (Fixed after a
