@@ -1,0 +1,184 @@
+"""What the three engine floors of issue 34 (item 2) would need: the compiled parts'
+cost per call times the counts of the fastest accurate runs, beside the floors.
+
+    python benchmarks/floors_budget.py [--rounds 3]
+
+For each floor -- the Fig 8 onset within 0.5 % (<= 10 ms), the 16-rate Fig 10 sweep with
+each onset within 0.5 % (<= 0.3 s, one core), the same-grid Fig 8 step (half the
+baseline's) -- this script runs the fastest setting measured to meet the accuracy
+(``docs/benchmarks.md``) with today's engine and counts its residuals, Newton corrections
+(one solve each) and factorisations (one Jacobian assembly and one block LU each).  It
+times each compiled part per call at the run's own last state (the bent rod), with
+today's kernels and with the block LU and explicit operators compiled for the rod's
+sizes (``benchmarks/patches/abd_fixed_sizes.patch``, in a temporary worktree), in
+alternating subprocesses (``--rounds``; the smallest median of each part).  From the
+cheaper of the two for each part it forms
+
+    kernels = residuals * t_res + factorisations * (t_jac + t_lu) + corrections * t_solve
+
+with ``t_solve`` the explicit-operator solve and the cost of building those operators
+left out: a lower bound on the compiled work of that run, with nothing for setting the
+run up (timed as the one-step run), for the bookkeeping of the steps or for reading the
+onset; and the same without the factorisations (``corrections``: residuals and solves
+alone).  Whatever beats a floor must do fewer of these operations or do them faster.
+One run on a shared machine; nothing is asserted.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+from worktree import ROOT, checkout
+
+PATCH = ROOT / "benchmarks" / "patches" / "abd_fixed_sizes.patch"
+
+RUN = r"""
+import sys; sys.path.insert(0, sys.argv[1]); sys.path.insert(0, sys.argv[2])
+import json, statistics, time
+from dataclasses import replace
+import numpy as np
+from dyntorsion import Rod, buckling as b, genalpha as ga
+from dyntorsion.beyond.predictions import estimate
+from dyntorsion.buckling.loading import EQ30
+from dyntorsion.buckling.scene import run_scene, simulate_scene
+from dyntorsion.genalpha.abd import EXPLICIT_AFTER, explicit
+from dyntorsion.genalpha.discrete import factor, setup
+from dyntorsion.model.cosserat import Cosserat
+from dyntorsion.studies import presets as P
+from dyntorsion.studies.pacing import paced
+from profile_fig08 import _parts
+
+def med(f, n):
+    out = []
+    for _ in range(n):
+        t = time.perf_counter(); f(); out.append(time.perf_counter() - t)
+    return statistics.median(out)
+
+def counts(r):
+    return {"steps": int(r.steps), "res": int(r.residual_evaluations.sum()),
+            "it": int(r.iterations.sum()), "fac": int(r.factorisations.sum())}
+
+def parts(run, n, dt):
+    sysm = Cosserat(Rod.paper()).system()
+    left = ga.Boundary.fields(sysm, list(EQ30.left))
+    right = ga.Boundary.fields(sysm, list(EQ30.right))
+    con, w, fac = setup(sysm, ga.Scheme(), n, Rod.paper().L / n, dt, left, right,
+                        np.ascontiguousarray(run.y), run.y_t)
+    gL, gR = np.zeros(left.nb), np.zeros(right.nb)
+    reps = 2000 if n <= 50 else 1000
+    def loop(part):
+        _parts(sysm.F, sysm.dF, con, gL, gR, w, fac, part, 1)
+        return 1e6 * med(lambda: _parts(sysm.F, sysm.dF, con, gL, gR, w, fac, part, reps), 5) / reps
+    t = {"res": loop(0), "res+jac": loop(1)}
+    t["lu"], t["exp"] = loop(2), loop(4)
+    factor(con, w, fac); fac.uses[0] = EXPLICIT_AFTER + 1; explicit(fac)
+    t["solve"] = loop(3)
+    return t
+
+fast = dict(a=1.6, n_cells=50, dt=0.15, t_end=18.0, stop_after_first_peak=True)
+newtons = {"theta 0.25": ga.Newton(tol=1e-6), "theta 0.5": ga.Newton(tol=1e-6, theta_reuse=0.5)}
+same = dict(a=1.6, n_cells=50, dt=0.02, t_end=18.0, stop_at_contact=False)
+
+def sweep(nw):
+    return [paced(replace(sc, until="first-peak", newton=replace(sc.newton, **nw)), steps=96)
+            for sc in P.preset("fig10")]
+
+b.simulate(a=1.6, n_cells=10, dt=0.05, t_end=0.2)
+out = {"runs": {}, "parts": {}, "ms": {}}
+for name, nw in newtons.items():
+    r = b.simulate(newton=nw, **fast)
+    out["runs"]["fig8 fast, " + name] = counts(r.run) | {"t_c": b.detect_onset(r).t_c_continuous}
+    scs = sweep({"theta_reuse": nw.theta_reuse})
+    runs = [simulate_scene(sc).run for sc in scs]
+    out["runs"]["fig10 sweep, " + name] = {
+        k: sum(counts(x)[k] for x in runs) for k in ("steps", "res", "it", "fac")}
+r8 = b.simulate(**same)
+out["runs"]["fig8 same grid"] = counts(r8.run)
+out["parts"]["50"] = parts(r.run, 50, 0.15)
+out["parts"][str(scs[-1].n_cells)] = parts(runs[-1], scs[-1].n_cells, scs[-1].dt)
+if sys.argv[3] == "time":
+    one = dict(fast, t_end=0.15, newton=ga.Newton(tol=1e-6))
+    out["ms"]["setup"] = 1e3 * med(lambda: b.simulate(**one), 9)
+    for name, nw in newtons.items():
+        out["ms"]["fig8 fast, " + name] = 1e3 * med(
+            lambda: b.detect_onset(b.simulate(newton=nw, **fast)), 9)
+        out["ms"]["fig10 sweep, " + name] = 1e3 * med(
+            lambda: [run_scene(sc) for sc in sweep({"theta_reuse": nw.theta_reuse})], 1)
+    out["ms"]["fig8 same grid"] = 1e3 * med(lambda: b.simulate(**same), 1)
+    out["ms"]["estimates"] = 1e3 * med(lambda: [estimate(sc) for sc in P.preset("fig10")], 3)
+print(json.dumps(out))
+"""
+
+
+def _run(tree: Path, what: str) -> dict:
+    out = subprocess.run(
+        [sys.executable, "-c", RUN, str(tree / "src"), str(tree / "benchmarks"), what],
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout
+    return json.loads(out.strip().splitlines()[-1])
+
+
+def kernels_ms(c: dict, t: dict, factorisations: bool = True) -> float:
+    """The lower bound of the module docstring, in ms (without the factorisations' part
+    when ``factorisations`` is false: the corrections alone)."""
+    jac = max(0.0, t["res+jac"] - t["res"])  # the smallest medians of both: not below 0
+    fac = c["fac"] * (jac + t["lu"]) if factorisations else 0.0
+    return 1e-3 * (c["res"] * t["res"] + fac + c["it"] * t["solve"])
+
+
+def main() -> None:
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("--rounds", type=int, default=3, help="alternating rounds of the parts")
+    args = p.parse_args()
+    with checkout() as today, checkout(patch=PATCH) as fixed:
+        trees = {"today": today, "fixed sizes": fixed}
+        parts: dict[str, dict[str, dict[str, float]]] = {k: {} for k in trees}
+        wall: dict[str, float] = {}
+        runs: dict[str, dict] = {}
+        for _ in range(args.rounds):
+            for k, wt in trees.items():
+                got = _run(wt, "time" if k == "today" else "parts")
+                runs = got["runs"] if k == "today" else runs  # the counts: the same each round
+                for n, t in got["parts"].items():
+                    parts[k][n] = {q: min(parts[k].get(n, t)[q], t[q]) for q in t}
+                for name, ms in got["ms"].items():
+                    wall[name] = min(wall.get(name, ms), ms)
+    cheap = {n: {q: min(parts[k][n][q] for k in trees) for q in parts["today"][n]}
+             for n in parts["today"]}  # fmt: skip
+    print(f"smallest of {args.rounds} alternating rounds (each a median of repeated calls):")
+    for n in parts["today"]:
+        print(f"parts per call at N = {n} (us):")
+        for k in trees:
+            print(f"  {k:12s} " + "  ".join(f"{q} {v:6.1f}" for q, v in parts[k][n].items()))
+    print(
+        f"setting a run up (one step, N = 50): {wall['setup']:.1f} ms; the 16 fast "
+        f"estimates that pace the sweep (inside its wall time): {wall['estimates']:.0f} ms"
+    )
+    n_sweep = max(parts["today"], key=int)
+    print(f"{'run':26s} {'steps':>6s} {'res':>6s} {'corr':>6s} {'LU':>5s} "
+          f"{'wall ms':>8s} {'kernels ms':>10s} {'corrections':>11s} {'floor ms':>8s}")  # fmt: skip
+    for name, c in runs.items():
+        n, floor = (n_sweep, 300.0) if "sweep" in name else ("50", 10.0)
+        floor = float("nan") if "same grid" in name else floor
+        print(f"{name:26s} {c['steps']:6d} {c['res']:6d} {c['it']:6d} {c['fac']:5d} "
+              f"{wall[name]:8.1f} {kernels_ms(c, cheap[n]):10.1f} "
+              f"{kernels_ms(c, cheap[n], False):11.1f} {floor:8.1f}")  # fmt: skip
+    same = runs["fig8 same grid"]
+    step, bound = (
+        1e3 * wall["fig8 same grid"] / same["steps"],
+        1e3 * kernels_ms(same, cheap["50"]) / same["steps"],
+    )
+    print(
+        f"same-grid Fig 8 step: {step:.0f} us today, kernels alone at least {bound:.0f} us "
+        f"({bound / step:.2f} of it; the floor: half the baseline's, which is today's engine)"
+    )
+
+
+if __name__ == "__main__":
+    main()
