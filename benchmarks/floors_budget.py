@@ -20,7 +20,10 @@ with ``t_solve`` the explicit-operator solve and the cost of building those oper
 left out: a lower bound on the compiled work of that run, with nothing for setting the
 run up (timed as the one-step run), for the bookkeeping of the steps or for reading the
 onset; and the same without the factorisations (``corrections``: residuals and solves
-alone).  Whatever beats a floor must do fewer of these operations or do them faster.
+alone).  The error column checks each setting's accuracy: the Fig 8 onset against the
+finest grid of the ``accuracy-fig08`` ladder (N = 400, dt = 0.00125 s), the sweep's
+largest against the N = 800 references of the first hold-out set, all read in continuous
+time (``make data`` first).  Whatever beats a floor must do fewer of these operations or do them faster.
 One run on a shared machine; nothing is asserted.
 """
 
@@ -50,6 +53,7 @@ from dyntorsion.genalpha.discrete import factor, setup
 from dyntorsion.model.cosserat import Cosserat
 from dyntorsion.studies import presets as P
 from dyntorsion.studies.pacing import paced
+from dyntorsion.studies.sweep import run_sweep
 from profile_fig08 import _parts
 
 def med(f, n):
@@ -88,19 +92,31 @@ def sweep(nw):
             for sc in P.preset("fig10")]
 
 b.simulate(a=1.6, n_cells=10, dt=0.05, t_end=0.2)
+timing = sys.argv[3] == "time"  # else the parts only (the patched tree: its records are stale)
+if timing:  # the converged onsets, read in continuous time
+    ladder = P.cached("accuracy-fig08")
+    ref8 = float(ladder[(ladder.n_cells == 400) & (ladder.dt == 0.00125)].t_c_continuous.iloc[0])
+    refs = run_sweep(P.reference_scenes(("tolerance-holdout",))[:16], compute=False,
+                     on_stale="error", progress=False).t_c_continuous.to_numpy()
 out = {"runs": {}, "parts": {}, "ms": {}}
 for name, nw in newtons.items():
     r = b.simulate(newton=nw, **fast)
-    out["runs"]["fig8 fast, " + name] = counts(r.run) | {"t_c": b.detect_onset(r).t_c_continuous}
+    out["runs"]["fig8 fast, " + name] = counts(r.run)
     scs = sweep({"theta_reuse": nw.theta_reuse})
     runs = [simulate_scene(sc).run for sc in scs]
     out["runs"]["fig10 sweep, " + name] = {
         k: sum(counts(x)[k] for x in runs) for k in ("steps", "res", "it", "fac")}
+    if timing:
+        out["runs"]["fig8 fast, " + name]["err %"] = 100 * abs(
+            b.detect_onset(r).t_c_continuous / ref8 - 1)
+        t_c = [run_scene(sc)["t_c_continuous"] for sc in scs]
+        out["runs"]["fig10 sweep, " + name]["err %"] = max(
+            100 * abs(c / ref - 1) for c, ref in zip(t_c, refs))
 r8 = b.simulate(**same)
 out["runs"]["fig8 same grid"] = counts(r8.run)
 out["parts"]["50"] = parts(r.run, 50, 0.15)
 out["parts"][str(scs[-1].n_cells)] = parts(runs[-1], scs[-1].n_cells, scs[-1].dt)
-if sys.argv[3] == "time":
+if timing:
     one = dict(fast, t_end=0.15, newton=ga.Newton(tol=1e-6))
     out["ms"]["setup"] = 1e3 * med(lambda: b.simulate(**one), 9)
     for name, nw in newtons.items():
@@ -162,13 +178,15 @@ def main() -> None:
     )
     n_sweep = max(parts["today"], key=int)
     print(f"{'run':26s} {'steps':>6s} {'res':>6s} {'corr':>6s} {'LU':>5s} "
-          f"{'wall ms':>8s} {'kernels ms':>10s} {'corrections':>11s} {'floor ms':>8s}")  # fmt: skip
+          f"{'wall ms':>8s} {'kernels ms':>10s} {'corrections':>11s} {'floor ms':>8s} "
+          f"{'error %':>7s}")  # fmt: skip
     for name, c in runs.items():
         n, floor = (n_sweep, 300.0) if "sweep" in name else ("50", 10.0)
         floor = float("nan") if "same grid" in name else floor
         print(f"{name:26s} {c['steps']:6d} {c['res']:6d} {c['it']:6d} {c['fac']:5d} "
               f"{wall[name]:8.1f} {kernels_ms(c, cheap[n]):10.1f} "
-              f"{kernels_ms(c, cheap[n], False):11.1f} {floor:8.1f}")  # fmt: skip
+              f"{kernels_ms(c, cheap[n], False):11.1f} {floor:8.1f} "
+              f"{c.get('err %', float('nan')):7.3f}")  # fmt: skip
     same = runs["fig8 same grid"]
     step, bound = (
         1e3 * wall["fig8 same grid"] / same["steps"],
