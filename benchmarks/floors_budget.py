@@ -100,17 +100,21 @@ fig8 = {  # name: (cells, Newton options, long steps of the straight phase)
     "fig8, long x16, theta 0.5": (50, half, ga.LongSteps(factor=16)),
     "fig8, N = 25, theta 0.25": (25, tol6, None),
 }
-sweeps = {"sweep, theta 0.25": ({}, None), "sweep, theta 0.5": ({"theta_reuse": 0.5}, None),
-          "sweep, long x4, theta 0.5": ({"theta_reuse": 0.5}, ga.LongSteps(factor=4))}
+sweeps = {  # name: (Newton options, long steps, paced steps)
+    "sweep, theta 0.25": ({}, None, 96),
+    "sweep, theta 0.5": ({"theta_reuse": 0.5}, None, 96),
+    "sweep, long x4, theta 0.5": ({"theta_reuse": 0.5}, ga.LongSteps(factor=4), 96),
+    "sweep, 64 steps, theta 0.5": ({"theta_reuse": 0.5}, None, 64),
+}
 same = dict(a=1.6, n_cells=50, dt=0.02, t_end=18.0, stop_at_contact=False)
 
 def fig8_run(n, nw, long):
     return b.simulate(**(fast | {"n_cells": n}), newton=ga.Newton(**nw),
                       scheme=ga.Scheme(long_steps=long))
 
-def sweep(nw, long):
+def sweep(nw, long, steps):
     return [paced(replace(sc, until="first-peak", newton=replace(sc.newton, **nw),
-                          scheme=replace(sc.scheme, long_steps=long)), steps=96)
+                          scheme=replace(sc.scheme, long_steps=long)), steps=steps)
             for sc in P.preset("fig10")]
 
 timing = sys.argv[3] == "time"  # else the parts only (the patched tree: its records are stale)
@@ -130,8 +134,8 @@ for name, (n, nw, long) in fig8.items():
     last[n] = (r.run, fast["dt"])
     if timing:
         out["runs"][name]["err %"] = 100 * abs(b.detect_onset(r).t_c_continuous / ref8 - 1)
-for name, (nw, long) in sweeps.items():
-    scs = sweep(nw, long)
+for name, (nw, long, steps) in sweeps.items():
+    scs = sweep(nw, long, steps)
     runs = [simulate_scene(sc).run for sc in scs]
     out["runs"][name] = {k: sum(counts(x)[k] for x in runs) for k in ("steps", "res", "it", "fac")}
     out["runs"][name]["cells"] = scs[-1].n_cells
@@ -147,8 +151,8 @@ if timing:
     out["ms"]["setup"] = 1e3 * med(lambda: b.simulate(**one), 9)
     for name, (n, nw, long) in fig8.items():
         out["ms"][name] = 1e3 * med(lambda: b.detect_onset(fig8_run(n, nw, long)), 9)
-    for name, (nw, long) in sweeps.items():
-        out["ms"][name] = 1e3 * med(lambda: [run_scene(sc) for sc in sweep(nw, long)], 1)
+    for name, (nw, long, steps) in sweeps.items():
+        out["ms"][name] = 1e3 * med(lambda: [run_scene(sc) for sc in sweep(nw, long, steps)], 1)
     out["ms"]["fig8 same grid"] = 1e3 * med(lambda: b.simulate(**same), 1)
     out["ms"]["estimates"] = 1e3 * med(lambda: [estimate(sc) for sc in P.preset("fig10")], 3)
 print(json.dumps(out))
