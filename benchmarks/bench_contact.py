@@ -34,11 +34,8 @@ compiled gathering).
 from __future__ import annotations
 
 import argparse
-import json
 import platform
 import statistics
-import subprocess
-import sys
 import time
 
 import numpy as np
@@ -50,7 +47,7 @@ from dyntorsion.buckling.scene import Scene
 from dyntorsion.genalpha.discrete import setup
 from dyntorsion.genalpha.scheme import Scheme
 from dyntorsion.model.cosserat import Cosserat
-from worktree import ROOT, checkout
+from worktree import ROOT, checkout, run_code, run_json
 
 
 def median_ms(fn, *args, repeats: int = 7) -> float:
@@ -117,13 +114,10 @@ def alternate(
         trees = (ROOT / "src", wt / "src")
         out = {"this checkout": [], f"baseline {baseline}": []}
         for src in trees if warm is not None else ():
-            subprocess.run([sys.executable, "-c", code, str(src), *warm], check=True,
-                           capture_output=True)  # fmt: skip
+            run_code(code, src, *warm)
         for _ in range(max(rounds, 1)):
             for key, src in zip(out, trees, strict=True):
-                run = subprocess.run([sys.executable, "-c", code, str(src), *args],
-                                     check=True, capture_output=True, text=True)  # fmt: skip
-                out[key].append(json.loads(run.stdout.strip().splitlines()[-1]))
+                out[key].append(run_json(code, src, *args))
     return out
 
 

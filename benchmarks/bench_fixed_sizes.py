@@ -28,12 +28,8 @@ and benchmark records, for the same numbers.
 from __future__ import annotations
 
 import argparse
-import json
-import subprocess
-import sys
-from pathlib import Path
 
-from worktree import ROOT, checkout
+from worktree import ROOT, checkout, run_json
 
 PATCH = ROOT / "benchmarks" / "patches" / "abd_fixed_sizes.patch"
 
@@ -65,24 +61,17 @@ else:
 """
 
 
-def _run(src: Path, what: str) -> dict:
-    out = subprocess.run(
-        [sys.executable, "-c", RUN, str(src), what], capture_output=True, text=True, check=True
-    ).stdout
-    return json.loads(out.strip().splitlines()[-1])
-
-
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--rounds", type=int, default=5, help="alternating timing rounds")
     args = p.parse_args()
     with checkout() as today, checkout(patch=PATCH) as fixed:
         trees = {"today": today, "fixed sizes": fixed}
-        checks = {k: _run(wt / "src", "check") for k, wt in trees.items()}
+        checks = {k: run_json(RUN, wt / "src", "check") for k, wt in trees.items()}
         best = {k: {"step_us": float("inf"), "fast_ms": float("inf")} for k in trees}
         for _ in range(args.rounds):
             for k, wt in trees.items():
-                for key, v in _run(wt / "src", "time").items():
+                for key, v in run_json(RUN, wt / "src", "time").items():
                     best[k][key] = min(best[k][key], v)
     same = checks["today"] == checks["fixed sizes"]
     print(f"the same numbers to the last bit: {'yes' if same else 'NO'}")

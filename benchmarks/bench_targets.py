@@ -55,13 +55,11 @@ Newton counts per step of the Fig 8 scene are printed too (they do not depend on
 from __future__ import annotations
 
 import argparse
-import json
 import subprocess
-import sys
 import time
 from pathlib import Path
 
-from worktree import ROOT, checkout
+from worktree import ROOT, checkout, run_code, run_json
 
 
 def ladder_t_c(preset: str, n_cells: int, dt: float, reading: str = "t_c") -> float:
@@ -273,13 +271,7 @@ print(json.dumps(res))
 
 
 def measure(src: Path, quick: bool) -> dict:
-    out = subprocess.run(
-        [sys.executable, "-c", MEASURE, str(src), "1" if quick else "0"],
-        capture_output=True,
-        text=True,
-        check=True,
-    ).stdout
-    return json.loads(out.strip().splitlines()[-1])
+    return run_json(MEASURE, src, "1" if quick else "0")
 
 
 PER_STEP = r"""
@@ -302,13 +294,7 @@ def per_step_alternating(srcs: dict[str, Path], rounds: int = 5) -> dict[str, fl
     best = dict.fromkeys(srcs, float("inf"))
     for _ in range(rounds):
         for key, src in srcs.items():
-            out = subprocess.run(
-                [sys.executable, "-c", PER_STEP, str(src)],
-                capture_output=True,
-                text=True,
-                check=True,
-            ).stdout
-            best[key] = min(best[key], float(out.strip().splitlines()[-1]))
+            best[key] = min(best[key], float(run_code(PER_STEP, src)))
     return best
 
 

@@ -33,12 +33,8 @@ machine; nothing is asserted.
 from __future__ import annotations
 
 import argparse
-import json
-import subprocess
-import sys
-from pathlib import Path
 
-from worktree import ROOT, checkout
+from worktree import ROOT, checkout, run_json
 
 PATCH = ROOT / "benchmarks" / "patches" / "abd_fixed_sizes.patch"
 
@@ -159,17 +155,6 @@ print(json.dumps(out))
 """
 
 
-def _run(tree: Path, what: str) -> dict:
-    done = subprocess.run(
-        [sys.executable, "-c", RUN, str(tree / "src"), str(tree / "benchmarks"), what],
-        capture_output=True,
-        text=True,
-    )
-    if done.returncode:
-        sys.exit(f"{tree} ({what}) failed:\n{done.stderr}")
-    return json.loads(done.stdout.strip().splitlines()[-1])
-
-
 def kernels_ms(c: dict, t: dict, factorisations: bool = True) -> float:
     """The lower bound of the module docstring, in ms (without the factorisations' part
     when ``factorisations`` is false: residuals and solves alone)."""
@@ -188,7 +173,9 @@ def main() -> None:
         runs: dict[str, dict] = {}
         for _ in range(args.rounds):
             for k, wt in trees.items():
-                got = _run(wt, "time" if k == "today" else "parts")
+                got = run_json(
+                    RUN, wt / "src", wt / "benchmarks", "time" if k == "today" else "parts"
+                )
                 runs = got["runs"] if k == "today" else runs  # the counts: the same each round
                 for n, t in got["parts"].items():
                     parts[k][n] = {q: min(parts[k].get(n, t)[q], t[q]) for q in t}

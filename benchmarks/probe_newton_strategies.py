@@ -40,12 +40,8 @@ are within this machine's noise.
 from __future__ import annotations
 
 import argparse
-import json
-import os
-import subprocess
-import sys
 
-from worktree import ROOT, checkout
+from worktree import ROOT, checkout, run_json
 
 PATCH = ROOT / "benchmarks" / "patches" / "newton_strategies.patch"
 
@@ -91,15 +87,8 @@ def main() -> None:
               f"[0,5) [5,10) [10,13) [13,15) [15,18)  {'LU':>4s}"
               + ("   ms" if args.timing else ""))  # fmt: skip
         for i, (name, env) in enumerate(VARIANTS.items()):
-            env = os.environ | env | {"NUMBA_CACHE_DIR": str(wt.parent / f"numba{i}")}
-            res = subprocess.run(
-                [sys.executable, "-c", RUN, str(wt / "src"), "1" if args.timing else "0"],
-                capture_output=True,
-                text=True,
-                check=True,
-                env=env,
-            ).stdout
-            o = json.loads(res.strip().splitlines()[-1])
+            env = env | {"NUMBA_CACHE_DIR": str(wt.parent / f"numba{i}")}
+            o = run_json(RUN, wt / "src", "1" if args.timing else "0", env=env)
             ph = " ".join(f"{v:5.2f}" for v in o["phases"])
             ms = f" {o['ms']:6.1f}" if args.timing else ""
             print(f"{name:22s} {o['t_c']:10.6f} {o['per_step']:9.2f}  {ph:38s} {o['lu']:4d}{ms}")
