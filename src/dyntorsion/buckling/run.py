@@ -14,7 +14,8 @@ from ..model.rod import Rod
 
 if TYPE_CHECKING:
     from ..model.ends import Ends
-    from .loading import AxialLoad, History
+    from .loading import History
+    from .loads import EndLoad
 
 __all__ = ["BucklingRun"]
 
@@ -34,7 +35,7 @@ class BucklingRun:
     rod: Rod
     params: dict[str, Any] = field(default_factory=dict)
     history: History | None = None
-    load: AxialLoad | None = None
+    load: EndLoad | None = None
     ends: Ends | None = None
 
     def end_twist(self, t: float | np.ndarray) -> float | np.ndarray:

@@ -21,12 +21,13 @@ from ..model.ends import Ends, ends_from_params
 from ..model.ends import ends as _ends
 from ..model.rod import Rod
 from .delay_law import paper_law
-from .loading import ENDS, AxialLoad, History, Ramp, SmoothStart, history_from_params
+from .loading import ENDS, History, Ramp, SmoothStart, history_from_params
+from .loads import DistributedLoad, EndLoad, as_load, distributed_from_params, load_from_params
 from .onset import WINDOW, check_window, classify_onset, detect_onset
 from .resolution import judge
 from .run import BucklingRun
 from .seed import Perturbation
-from .simulation import _load, simulate
+from .simulation import simulate
 from .statics import critical_twist
 
 __all__ = ["Scene", "UNTIL", "START", "simulate_scene", "simulated", "run_scene"]
@@ -84,7 +85,8 @@ class Scene:
     terms: tuple[tuple[str, float], ...] = ()
     rotary_inertia_scale: float = 1.0
     history: History | None = None
-    tension: AxialLoad | float = 0.0
+    tension: EndLoad | float = 0.0
+    loads: tuple[DistributedLoad, ...] = ()
     ends: Ends | str = "clamped"
     until: str = "contact"
     start: str = "pretwisted"
@@ -133,7 +135,13 @@ class Scene:
         set_(self, "dt", float(self.dt))
         set_(self, "terms", _canonical_terms(self.terms))
         set_(self, "rotary_inertia_scale", real("rotary_inertia_scale", self.rotary_inertia_scale))
-        set_(self, "tension", _load(self.tension))
+        set_(self, "tension", as_load(self.tension))
+        set_(self, "loads", tuple(self.loads))
+        for i, load in enumerate(self.loads):
+            if not isinstance(load, DistributedLoad):
+                raise TypeError(
+                    f"loads[{i}]={load!r} must be a dyntorsion.buckling.loads.DistributedLoad"
+                )
         set_(self, "ends", _ends(self.ends))
         self.ends.check_history(self.twist)
         Cosserat(self.rod, terms=dict(self.terms), rotary_inertia_scale=self.rotary_inertia_scale)
@@ -172,7 +180,8 @@ class Scene:
             variations=tuple(tuple(v) for v in p["onset"]["variations"]),
             terms=tuple(model["terms"].items()),
             rotary_inertia_scale=model["rotary_inertia_scale"],
-            tension=AxialLoad(**p["load"]),
+            tension=load_from_params(p["load"]),
+            loads=tuple(distributed_from_params(q) for q in p.get("loads", ())),
             ends=ends_from_params(p["ends"]),
             until=p.get("until", "contact"),
             start=p.get("start", "pretwisted"),
@@ -196,9 +205,14 @@ class Scene:
                 f"ends={self.ends.name!r}: no static critical twist (the static theory covers "
                 "the clamped ends of eq 30)"
             )
-        if self.tension.T_rate != 0.0:
-            raise ValueError("a ramped axial load has no single static critical twist")
-        return critical_twist(self.rod, self.tension.T)
+        if self.tension.constant is None:
+            raise ValueError(
+                f"axial load {self.tension.label()}: a load that changes in time has "
+                "no single static critical twist"
+            )
+        if self.loads:
+            raise ValueError("distributed loads: the static theory covers end loads only")
+        return critical_twist(self.rod, self.tension.constant)
 
     def duration(self) -> float:
         """The run's t_end (explicit, or from the horizon rule)."""
@@ -224,6 +238,7 @@ class Scene:
             "rod": self.rod.params(),
             "history": self.twist.params(),
             "load": self.tension.params(),
+            **({"loads": [q.params() for q in self.loads]} if self.loads else {}),
             "ends": self.ends.params(),
             "model": {
                 "terms": dict(self.terms),
@@ -254,8 +269,8 @@ class Scene:
         return (
             f"{twist} rho={self.rod.rho if self.rod.rho is not None else '-'}{rod} "
             f"seed={self.seed.magnitude:g} N={self.n_cells} dt={self.dt:g}"
-            + (f" T={self.tension.T:g}" if self.tension.T else "")
-            + (f" T_rate={self.tension.T_rate:g}" if self.tension.T_rate else "")
+            + (f" {self.tension.label()}" if self.tension.label() else "")
+            + "".join(f" {q.label()}" for q in self.loads)
             + (f" ends={self.ends.name}" if self.ends.name != "clamped" else "")
             + "".join(f" {k}={v:g}" for k, v in self.terms)
             + (f" rotary={self.rotary_inertia_scale:g}" if self.rotary_inertia_scale != 1 else "")
@@ -294,6 +309,7 @@ def simulate_scene(scene: Scene, t_end: float | None = None) -> BucklingRun:
         scene.rod,
         history=scene.twist,
         tension=scene.tension,
+        loads=scene.loads,
         ends=scene.ends,
         n_cells=scene.n_cells,
         dt=scene.dt,
@@ -329,7 +345,7 @@ def _unresolved(scene: Scene, run: BucklingRun, kc: float | None) -> dict[str, A
     if kc is None or scene.seed.magnitude == 0.0 or run.t.size < 2:
         return {}
     t = np.union1d(run.t, np.linspace(run.t[0], run.t[-1], 100_001))
-    load = _load(scene.tension)
+    load = scene.tension
     res = judge(
         scene.rod, t, run.end_twist(t), load(t), kc, scene.n_cells, scene.dt
     )  # fmt: skip

@@ -18,7 +18,8 @@ from ..model.cosserat import Cosserat
 from ..model.ends import Ends
 from ..model.ends import ends as _ends
 from ..model.rod import Rod
-from .loading import AxialLoad, History, Ramp
+from .loading import History, Ramp
+from .loads import DistributedLoad, EndLoad, as_load
 from .postbuckling import diagnose
 from .run import BucklingRun
 from .seed import STATED, Perturbation
@@ -110,8 +111,19 @@ def _seed_sources(model, seed: Perturbation, s: np.ndarray, length: float, hist)
     return Sources(field=turned)
 
 
-def _load(tension: float | AxialLoad) -> AxialLoad:
-    return tension if isinstance(tension, AxialLoad) else AxialLoad(T=tension)
+def _with_loads(seed: Sources, model, loads: Sequence[DistributedLoad], s) -> Sources:
+    """The seed's sources with the distributed ``loads`` added as a field q(s, t) (the
+    seed's sources unchanged without loads)."""
+    if not loads:
+        return seed
+    length = float(s[-1])
+
+    def field(s_, t):
+        f = sum(np.asarray(q.force(s, t, length), dtype=float) for q in loads)
+        out = model.external_force(f)
+        return out if seed.field is None else out + seed.field(s_, t)
+
+    return Sources(separable=seed.separable, field=field)
 
 
 #: the traces every buckling run keeps: the end displacement and the end twists and spins
@@ -133,7 +145,8 @@ def simulate(
     dt: float,
     t_end: float,
     history: History | None = None,
-    tension: float | AxialLoad = 0.0,
+    tension: float | EndLoad = 0.0,
+    loads: Sequence[DistributedLoad] = (),
     ends: str | Ends = "clamped",
     perturbation: float | Perturbation = STATED,
     scheme: Scheme = Scheme(),
@@ -199,7 +212,7 @@ def simulate(
         raise TypeError(f"rod={rod!r} must be a dyntorsion.Rod")
     check_time_grid(dt, t_end, 0.0, snapshots, check_every)
     hist = _checked(_history(a, kappa0, history), t_end)
-    load = _load(tension)
+    load = as_load(tension)
     end_set = _ends(ends)
     if not isinstance(perturbation, Perturbation):
         perturbation = Perturbation(magnitude=real("perturbation", perturbation, " [N/m]"))
@@ -217,7 +230,7 @@ def simulate(
         y0[:, system.index("k3")] = hist.initial_twist
     y0[:, system.index("n3")] = load(np.zeros(1))[0]
     left, right = end_set.rows(system, hist, load)
-    sources = _seed_sources(model, perturbation, s, rod.L, hist)
+    sources = _with_loads(_seed_sources(model, perturbation, s, rod.L, hist), model, loads, s)
 
     if check_every is None:
         check_every = 1 if scheme.control is not None else max(1, int(round(0.1 / dt)))

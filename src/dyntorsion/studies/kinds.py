@@ -11,6 +11,8 @@ __all__ = ["KINDS"]
 _SCENE = (
     "dyntorsion.buckling.scene:Scene",
     "dyntorsion.buckling.loading",
+    "dyntorsion.buckling.loads",
+    "dyntorsion.buckling.seed",
     "dyntorsion.model.ends",
 )
 KINDS: dict[str, tuple[str, ...]] = {
