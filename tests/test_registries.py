@@ -97,3 +97,56 @@ def test_a_user_seed_form_acts_where_it_says():
     assert np.flatnonzero(f[:, 0]).tolist() == [1, 9] and f[1, 0] == 2.0
     with pytest.raises(ValueError, match="registered: .*point.*uniform"):
         Perturbation(form="nope")
+
+
+def test_end_sets_declare_what_they_support():
+    from dyntorsion.beyond.predictions import Prediction
+    from dyntorsion.model.ends import ENDS, UnsupportedEndsError
+
+    free = Scene(a=1.0, t_end=1.0, ends="clamped-free")
+    with pytest.raises(UnsupportedEndsError, match="'clamped-free' do not support a static"):
+        free.kappa_cri()
+    with pytest.raises(UnsupportedEndsError, match="'clamped-free' do not support the linear"):
+        Prediction(free)
+    assert ENDS["clamped"].static == "clamped" and ENDS["clamped-turned"].contact
+    with pytest.raises(ValueError, match="t_end=None.*do not support a static critical twist"):
+        Scene(a=1.0, ends="pinned-follower")
+
+
+def test_a_relation_is_written_into_its_row_and_keyed():
+    from dyntorsion.buckling.loading import AxialLoad, Ramp
+    from dyntorsion.model.cosserat import Cosserat
+    from dyntorsion.model.ends import IllPosedEndsError, Relation, ends_from_params, register
+    from dyntorsion.model.rod import Rod
+
+    right = ("w1", "w2", "k3", "u1", "u2", "n3")
+    e = register(
+        __import__("dyntorsion.model.ends", fromlist=["Ends"]).Ends(
+            "test-dashpot", ("u1", "u2", "u3", "w1", "w2", "k3"), right,
+            relations=(Relation("right", "k3", (("w3", 0.25),), value=1.5),),
+        )
+    )  # fmt: skip
+    system = Cosserat(Rod()).system()
+    left, rows = e.rows(system, Ramp(1.0), AxialLoad(1e-3))
+    i = right.index("k3")
+    assert rows.rows[i, system.index("k3")] == 1.0 and rows.rows[i, system.index("w3")] == 0.25
+    assert rows.at(np.array([0.0, 2.0]))[:, i].tolist() == [1.5, 1.5]
+    assert rows.at(np.array([2.0]))[0, right.index("n3")] == 1e-3
+    assert ends_from_params(e.params()) is e
+    assert e.params()["relations"][0]["terms"] == [["w3", 0.25]]
+    with pytest.raises(IllPosedEndsError, match="does not prescribe w3"):
+        type(e)("bad", e.left, right, relations=(Relation("right", "w3", (("k3", 1.0),)),))
+
+
+def test_a_numerical_static_twist_reaches_the_scene():
+    from dyntorsion.buckling import statics
+    from dyntorsion.model.ends import ENDS, Ends, register
+
+    statics.STATIC_ENDS["test-half"] = statics.StaticEnds(
+        True, 4.0, None, solver=lambda rod, T: 0.5 * statics.critical_twist(rod, T)
+    )
+    e = register(Ends("test-half", ENDS["clamped"].left, ENDS["clamped"].right,
+                      static="test-half"))  # fmt: skip
+    sc = Scene(a=1.0, ends=e)
+    assert sc.kappa_cri() == 0.5 * statics.critical_twist(sc.rod)
+    assert statics.STATIC_ENDS["test-half"].route == "numerical"

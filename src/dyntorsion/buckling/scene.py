@@ -17,11 +17,11 @@ import numpy as np
 from ..genalpha import Newton, Scheme
 from ..genalpha.guard import check_time_grid, real
 from ..model.cosserat import Cosserat
-from ..model.ends import Ends, ends_from_params
+from ..model.ends import EQ30, Ends, ends_from_params
 from ..model.ends import ends as _ends
 from ..model.rod import Rod
 from .delay_law import paper_law
-from .loading import ENDS, History, Ramp, SmoothStart, history_from_params
+from .loading import History, Ramp, SmoothStart, history_from_params
 from .loads import DistributedLoad, EndLoad, as_load, distributed_from_params, load_from_params
 from .onset import WINDOW, check_window, classify_onset, detect_onset
 from .resolution import judge
@@ -200,11 +200,7 @@ class Scene:
         """The static critical twist of this rod, axial load and ends
         (:func:`~dyntorsion.buckling.statics.critical_twist`); raises where the theory does not
         reach (ends other than eq 30, a ramped load)."""
-        if (self.ends.left, self.ends.right) != (ENDS["clamped"].left, ENDS["clamped"].right):
-            raise ValueError(
-                f"ends={self.ends.name!r}: no static critical twist (the static theory covers "
-                "the clamped ends of eq 30)"
-            )
+        self.ends.require("static", "give the scene an explicit t_end")
         if self.tension.constant is None:
             raise ValueError(
                 f"axial load {self.tension.label()}: a load that changes in time has "
@@ -212,7 +208,7 @@ class Scene:
             )
         if self.loads:
             raise ValueError("distributed loads: the static theory covers end loads only")
-        return critical_twist(self.rod, self.tension.constant)
+        return critical_twist(self.rod, self.tension.constant, self.ends.static)
 
     def duration(self) -> float:
         """The run's t_end (explicit, or from the horizon rule)."""
@@ -271,7 +267,7 @@ class Scene:
             f"seed={self.seed.magnitude:g} N={self.n_cells} dt={self.dt:g}"
             + (f" {self.tension.label()}" if self.tension.label() else "")
             + "".join(f" {q.label()}" for q in self.loads)
-            + (f" ends={self.ends.name}" if self.ends.name != "clamped" else "")
+            + (f" ends={self.ends.name}" if self.ends != EQ30 else "")
             + "".join(f" {k}={v:g}" for k, v in self.terms)
             + (f" rotary={self.rotary_inertia_scale:g}" if self.rotary_inertia_scale != 1 else "")
             + (f" until={self.until}" if self.until != "contact" else "")
