@@ -26,6 +26,7 @@ from dyntorsion import Rod
 from dyntorsion import waves as W
 from dyntorsion.buckling import STATUSES, GridWarning, Perturbation, simulate
 from dyntorsion.buckling.delay_law import fit_power_law
+from dyntorsion.buckling.scene import Scene
 from dyntorsion.studies import sweep as S
 
 FEW = max(3, settings.default.max_examples // 4)  # for examples that run a scene or a process
@@ -99,7 +100,7 @@ def test_simulate_honours_the_imposed_twist_or_names_the_parameter(kw):
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", GridWarning)
-            run = simulate(**kw, progress=False, on_failure="return")
+            run = simulate(Scene(**kw), progress=False, on_failure="return")
     except (ValueError, TypeError) as err:
         event(f"simulate: {type(err).__name__}")
         names_one_of(err, SIM_NAMES)

@@ -3,7 +3,7 @@ the engine's :class:`~dyntorsion.genalpha.Run`, with the shape of section 4 on d
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -33,7 +33,8 @@ class BucklingRun:
     theta_left: np.ndarray
     run: Run
     rod: Rod
-    params: dict[str, Any] = field(default_factory=dict)
+    #: the :class:`~dyntorsion.buckling.spec.Scene` that was run (None for a trace made by hand)
+    scene: Any = None
     history: History | None = None
     load: EndLoad | None = None
     ends: Ends | None = None

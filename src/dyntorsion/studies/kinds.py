@@ -9,7 +9,7 @@ __all__ = ["KINDS"]
 
 #: the ends and loads a scene is keyed by are part of every scene's computation
 _SCENE = (
-    "dyntorsion.buckling.scene:Scene",
+    "dyntorsion.buckling.spec:Scene",
     "dyntorsion.buckling.loading",
     "dyntorsion.buckling.loads",
     "dyntorsion.buckling.seed",
