@@ -132,7 +132,7 @@ def test_perturbation_forms():
 @pytest.mark.parametrize(
     "kwargs, match",
     [
-        ({"perturbation": b.Perturbation(form="point", location=2.0)}, "location"),
+        ({"seed": b.Perturbation(form="point", location=2.0)}, "location"),
         ({"n_cells": 1}, "n_cells"),
         ({"a": float("nan")}, "a="),
         ({"on_failure": "ignore"}, "on_failure"),
@@ -140,9 +140,11 @@ def test_perturbation_forms():
 )
 def test_bad_input(kwargs, match):
     args = {"a": 1.0, "kappa0": 0.0, "n_cells": 10, "dt": 0.01, "t_end": 0.02}
+    run = {k: args.pop(k) for k in ("on_failure",) if k in args}
     with pytest.raises(ValueError, match=match):
         args.update(kwargs)
-        b.simulate(Scene(**args))
+        run |= {k: args.pop(k) for k in ("on_failure",) if k in args}
+        b.simulate(Scene(**args), **run)
 
 
 def test_bad_perturbation_values():

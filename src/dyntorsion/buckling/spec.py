@@ -155,17 +155,12 @@ class Scene:
     def from_params(cls, p: Mapping[str, Any]) -> Scene:
         """The scene of a cache key (:meth:`params`): ``Scene.from_params(s.params())``
         has the key of ``s``."""
-        hist = history_from_params(p["history"])
-        twist = (
-            {"a": hist.a, "kappa0": hist.kappa0} if isinstance(hist, Ramp) else {"history": hist}
-        )
-        if isinstance(hist, SmoothStart):
-            twist = {"a": hist.a, "kappa0": hist.kappa0, "start_tau": hist.tau}
+        twist = cls.twist_keywords(history_from_params(p["history"]))
         seed = dict(p["perturbation"])
         seed["direction"] = tuple(seed["direction"])
         model = p["model"]
         return cls(
-            **twist,
+            **{"start": p.get("start", "pretwisted"), **twist},
             rod=Rod.from_params(p["rod"]),
             seed=Perturbation(**seed),
             n_cells=p["n_cells"],
@@ -181,8 +176,19 @@ class Scene:
             loads=tuple(distributed_from_params(q) for q in p.get("loads", ())),
             ends=ends_from_params(p["ends"]),
             until=p.get("until", "contact"),
-            start=p.get("start", "pretwisted"),
         )
+
+    @staticmethod
+    def twist_keywords(history: History) -> dict[str, Any]:
+        """The Scene keywords of an end history: ``a``, ``kappa0`` (and ``start_tau``) for
+        the paper's ramp (and its smooth start), ``history`` for any other, so that a
+        scene built from a history has the key of the scene it came from."""
+        if type(history) is Ramp:
+            return {"a": history.a, "kappa0": history.kappa0}
+        if type(history) is SmoothStart:
+            return {"a": history.a, "kappa0": history.kappa0, "start_tau": history.tau,
+                    "start": "smooth"}  # fmt: skip
+        return {"history": history}
 
     @property
     def twist(self) -> History:
