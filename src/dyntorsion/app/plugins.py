@@ -67,7 +67,7 @@ def _number(text: str) -> Any:
     if ";" in text:
         return tuple(_number(v) for v in text.split(";") if v)
     try:
-        return int(text) if text.lstrip("+-").isdigit() else float(text)
+        return float(text)  # "2" is 2.0, as in a key written from Python
     except ValueError:
         return text
 
