@@ -90,32 +90,15 @@ def test_failure_keeps_the_computed_steps():
     """A Newton failure raises with time, iteration and residual and carries the partial run."""
     from dyntorsion.genalpha import Newton
 
+    scene = Scene(a=10.0, kappa0=10.0, n_cells=20, dt=0.05, t_end=2.0,
+                  newton=Newton(max_iter=1, tol=1e-14))  # fmt: skip
     with pytest.raises(ConvergenceError) as info:
-        b.simulate(
-            Scene(
-                a=10.0,
-                kappa0=10.0,
-                n_cells=20,
-                dt=0.05,
-                t_end=2.0,
-                newton=Newton(max_iter=1, tol=1e-14),
-            )
-        )
+        b.simulate(scene)
     err = info.value
     assert err.t > 0 and err.residual > 0
     assert err.run is not None and err.run.steps == err.step - 1
     assert err.run.t[-1] == pytest.approx(err.t - 0.05)
-    partial = b.simulate(
-        Scene(
-            a=10.0,
-            kappa0=10.0,
-            n_cells=20,
-            dt=0.05,
-            t_end=2.0,
-            newton=Newton(max_iter=1, tol=1e-14),
-        ),
-        on_failure="return",
-    )
+    partial = b.simulate(scene, on_failure="return")
     assert partial.stopped.startswith("failed")
 
 

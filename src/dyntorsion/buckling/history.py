@@ -67,6 +67,15 @@ class Registered:
         q = {k: tuple(v) if isinstance(v, list) else v for k, v in params.items() if k != "kind"}
         return cls(**q)
 
+    def label(self) -> str:
+        """``kind(name=value, ...)`` of the parameters."""
+        return (
+            self.kind
+            + "("
+            + ", ".join(f"{k}={v}" for k, v in self.params().items() if k != "kind")
+            + ")"
+        )
+
     def params(self) -> dict[str, Any]:
         """``kind`` and the dataclass fields (a subclass that is no dataclass overrides)."""
         if not dataclasses.is_dataclass(self):
@@ -109,14 +118,6 @@ class History(Registered):
     def initial_twist(self) -> float:
         """kappa3 of the pretwisted rod at t = 0 [1/m] (the history's own value at 0)."""
         return self.kappa0
-
-    def label(self) -> str:
-        return (
-            self.kind
-            + "("
-            + ", ".join(f"{k}={v}" for k, v in self.params().items() if k != "kind")
-            + ")"
-        )
 
 
 def history_from_params(p: Mapping[str, Any]) -> History:

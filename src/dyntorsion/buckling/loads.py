@@ -56,10 +56,6 @@ class EndLoad(Registered):
         """The force [N] when it does not change in time (the static theory's T), else None."""
         return None
 
-    def label(self) -> str:
-        p = self.params()
-        return f"{p.pop('kind', self.kind)}(" + ", ".join(f"{k}={v}" for k, v in p.items()) + ")"
-
 
 @dataclass(frozen=True)
 class AxialLoad(EndLoad):
@@ -120,10 +116,6 @@ class DistributedLoad(Registered):
 
     def force(self, s: np.ndarray, t: float, length: float) -> np.ndarray:
         raise NotImplementedError
-
-    def label(self) -> str:
-        p = self.params()
-        return f"{p.pop('kind', self.kind)}(" + ", ".join(f"{k}={v}" for k, v in p.items()) + ")"
 
 
 def distributed_from_params(p: Mapping[str, Any]) -> DistributedLoad:
