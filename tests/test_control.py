@@ -1,5 +1,7 @@
 """Step-size control (genalpha.control) and the three failure messages of the buckling scene."""
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
@@ -88,22 +90,9 @@ def test_constant_steps_with_control_are_bitwise_fixed_steps():
 
 
 # ------------------------------------------------------------------ rejection and retry
-def _whip(scheme, **kw):
+def _whip(scheme, **run):
     sc = Scene(a=16.0, kappa0=10.0, n_cells=50, dt=0.01, scheme=scheme)
-    return buckling.simulate(
-        Scene(
-            rod=sc.rod,
-            a=16.0,
-            kappa0=10.0,
-            n_cells=50,
-            dt=0.01,
-            t_end=sc.duration(),
-            seed=sc.seed,
-            scheme=scheme,
-            **kw,
-        ),
-        progress=False,
-    )
+    return buckling.simulate(replace(sc, t_end=sc.duration()), progress=False, **run)
 
 
 def test_rejected_steps_are_retried_with_smaller_steps():
