@@ -18,7 +18,9 @@ from dyntorsion.genalpha import Scheme, StepControl
 
 
 def main() -> None:
-    b.simulate(a=1.6, n_cells=10, dt=0.05, t_end=0.2)  # compile outside the timing
+    b.simulate(
+        Scene(a=1.6, n_cells=10, dt=0.05, t_end=0.2, kappa0=0.0)
+    )  # compile outside the timing
     for a in (16.0, 1.6):
         for scheme in (Scheme(), Scheme(control=StepControl())):
             walls = []

@@ -38,19 +38,19 @@ import sys; sys.path.insert(0, sys.argv[1])
 import json, time, statistics, hashlib
 from dyntorsion import buckling as b
 from dyntorsion.genalpha import Newton
-b.simulate(a=1.6, n_cells=10, dt=0.05, t_end=0.2)
+b.simulate(Scene(a=1.6, n_cells=10, dt=0.05, t_end=0.2, kappa0=0.0))
 digest = lambda y: hashlib.sha256(y.tobytes()).hexdigest()[:16]
-fast = dict(a=1.6, n_cells=50, dt=0.15, t_end=18.0, newton=Newton(tol=1e-6))
-fast_onset = lambda: b.detect_onset(b.simulate(stop_after_first_peak=True, **fast))
-same = lambda: b.simulate(a=1.6, n_cells=50, dt=0.02, t_end=18.0, stop_at_contact=False)
+fast = dict(a=1.6, kappa0=0.0, n_cells=50, dt=0.15, t_end=18.0, newton=Newton(tol=1e-6))
+fast_onset = lambda: b.detect_onset(b.simulate(Scene(until="first-peak", **fast)))
+same = lambda: b.simulate(Scene(a=1.6, n_cells=50, dt=0.02, t_end=18.0, kappa0=0.0), stop_at_contact=False)
 def med(f, n):
     out = []
     for _ in range(n):
         t = time.perf_counter(); f(); out.append(time.perf_counter() - t)
     return statistics.median(out)
 if sys.argv[2] == "check":
-    r8 = b.simulate(a=1.6, n_cells=50, dt=0.02, t_end=18.0)
-    r16 = b.simulate(a=16.0, kappa0=10.0, n_cells=100, dt=0.005, t_end=3.0, ends="clamped-free")
+    r8 = b.simulate(Scene(a=1.6, n_cells=50, dt=0.02, t_end=18.0, kappa0=0.0))
+    r16 = b.simulate(Scene(a=16.0, kappa0=10.0, n_cells=100, dt=0.005, t_end=3.0, ends="clamped-free"))
     on = fast_onset()
     print(json.dumps({"fig8": [digest(r8.run.y), b.detect_onset(r8).t_c],
                       "fast": [on.t_c, on.t_c_continuous, on.kappa3_continuous],

@@ -85,7 +85,7 @@ def parts(run, n, dt):
     t["solve"] = loop(3)
     return t
 
-fast = dict(a=1.6, n_cells=50, dt=0.15, t_end=18.0, stop_after_first_peak=True)
+fast = dict(a=1.6, kappa0=0.0, n_cells=50, dt=0.15, t_end=18.0, until="first-peak")
 tol6 = dict(tol=1e-6)
 half = dict(tol=1e-6, theta_reuse=0.5)
 fig8 = {  # name: (cells, Newton options, long steps of the straight phase)
@@ -102,11 +102,10 @@ sweeps = {  # name: (Newton options, long steps, paced steps)
     "sweep, long x4, theta 0.5": ({"theta_reuse": 0.5}, ga.LongSteps(factor=4), 96),
     "sweep, 64 steps, theta 0.5": ({"theta_reuse": 0.5}, None, 64),
 }
-same = dict(a=1.6, n_cells=50, dt=0.02, t_end=18.0, stop_at_contact=False)
+same = dict(a=1.6, kappa0=0.0, n_cells=50, dt=0.02, t_end=18.0)
 
 def fig8_run(n, nw, long):
-    return b.simulate(**(fast | {"n_cells": n}), newton=ga.Newton(**nw),
-                      scheme=ga.Scheme(long_steps=long))
+    return b.simulate(Scene(**fast | {"n_cells": n}, newton=ga.Newton(**nw), scheme=ga.Scheme(long_steps=long)))
 
 def sweep(nw, long, steps):
     return [paced(replace(sc, until="first-peak", newton=replace(sc.newton, **nw),
@@ -114,7 +113,7 @@ def sweep(nw, long, steps):
             for sc in P.preset("fig10")]
 
 timing = sys.argv[3] == "time"  # else the parts only (the patched tree: its records are stale)
-b.simulate(a=1.6, n_cells=10, dt=0.05, t_end=0.2)
+b.simulate(Scene(a=1.6, n_cells=10, dt=0.05, t_end=0.2, kappa0=0.0))
 if timing:  # the converged onsets, read in continuous time
     ladder = P.cached("accuracy-fig08")
     ref8 = float(ladder[(ladder.n_cells == 400) & (ladder.dt == 0.00125)].t_c_continuous.iloc[0])
@@ -139,17 +138,17 @@ for name, (nw, long, steps) in sweeps.items():
     if timing:
         t_c = [run_scene(sc)["t_c_continuous"] for sc in scs]
         out["runs"][name]["err %"] = max(100 * abs(c / ref - 1) for c, ref in zip(t_c, refs))
-out["runs"]["fig8 same grid"] = counts(b.simulate(**same).run) | {"cells": 50}
+out["runs"]["fig8 same grid"] = counts(b.simulate(Scene(**same), stop_at_contact=False).run) | {"cells": 50}
 for n, (run, dt) in last.items():
     out["parts"][str(n)] = parts(run, n, dt)
 if timing:
     one = dict(fast, t_end=0.15, newton=ga.Newton(tol=1e-6))
-    out["ms"]["setup"] = 1e3 * med(lambda: b.simulate(**one), 9)
+    out["ms"]["setup"] = 1e3 * med(lambda: b.simulate(Scene(**one)), 9)
     for name, (n, nw, long) in fig8.items():
         out["ms"][name] = 1e3 * med(lambda: b.detect_onset(fig8_run(n, nw, long)), 9)
     for name, (nw, long, steps) in sweeps.items():
         out["ms"][name] = 1e3 * med(lambda: [run_scene(sc) for sc in sweep(nw, long, steps)], 1)
-    out["ms"]["fig8 same grid"] = 1e3 * med(lambda: b.simulate(**same), 1)
+    out["ms"]["fig8 same grid"] = 1e3 * med(lambda: b.simulate(Scene(**same), stop_at_contact=False), 1)
     out["ms"]["estimates"] = 1e3 * med(lambda: [estimate(sc) for sc in P.preset("fig10")], 3)
 print(json.dumps(out))
 """

@@ -60,9 +60,9 @@ import sys; sys.path.insert(0, sys.argv[1])
 import json, time, statistics
 import numpy as np
 from dyntorsion import buckling as b
-scene = dict(a=1.6, n_cells=50, dt=0.02, t_end=18.0)
-b.simulate(a=1.6, n_cells=10, dt=0.05, t_end=0.2)
-run = b.simulate(**scene)
+scene = dict(a=1.6, kappa0=0.0, n_cells=50, dt=0.02, t_end=18.0)
+b.simulate(Scene(a=1.6, n_cells=10, dt=0.05, t_end=0.2, kappa0=0.0))
+run = b.simulate(Scene(**scene))
 r = run.run
 t = 0.02 * np.arange(1, r.steps + 1)
 phases = [(0, 5), (5, 10), (10, 13), (13, 15), (15, 18.01)]
@@ -72,7 +72,7 @@ out = {"t_c": b.detect_onset(run).t_c, "per_step": float(r.iterations.mean()),
 if sys.argv[2] == "1":
     ts = []
     for _ in range(5):
-        s = time.perf_counter(); b.simulate(**scene); ts.append(time.perf_counter() - s)
+        s = time.perf_counter(); b.simulate(Scene(**scene)); ts.append(time.perf_counter() - s)
     out["ms"] = 1e3 * statistics.median(ts)
 print(json.dumps(out))
 """

@@ -40,6 +40,7 @@ from dyntorsion import buckling as b
 from dyntorsion import genalpha as ga
 from dyntorsion._numba import jit
 from dyntorsion.buckling.loading import EQ30
+from dyntorsion.buckling.scene import Scene
 from dyntorsion.genalpha.abd import EXPLICIT_AFTER, explicit, solve_lu
 from dyntorsion.genalpha.discrete import factor, residual, setup, solve_neg
 from dyntorsion.model.cosserat import Cosserat
@@ -80,13 +81,13 @@ def main() -> None:
     args = p.parse_args()
     kw = {"tol": args.tol} | ({"stopping": args.stop} if args.stop else {})
     newton = ga.Newton(**kw)
-    scene = {"a": 1.6, "n_cells": 50, "dt": 0.02, "t_end": 18.0, "newton": newton}
-    b.simulate(a=1.6, n_cells=10, dt=0.05, t_end=0.2, newton=newton)
-    run = b.simulate(**scene)
+    scene = {"a": 1.6, "kappa0": 0.0, "n_cells": 50, "dt": 0.02, "t_end": 18.0, "newton": newton}
+    b.simulate(Scene(a=1.6, n_cells=10, dt=0.05, t_end=0.2, newton=newton, kappa0=0.0))
+    run = b.simulate(Scene(**scene))
     onset = b.detect_onset(run)
-    sim = median(lambda: b.simulate(**scene), 9)
-    chunks = median(lambda: b.simulate(**scene, stop_at_contact=False), 9)
-    bare = median(lambda: b.simulate(**scene, stop_at_contact=False, check_every=900), 9)
+    sim = median(lambda: b.simulate(Scene(**scene)), 9)
+    chunks = median(lambda: b.simulate(Scene(**scene), stop_at_contact=False), 9)
+    bare = median(lambda: b.simulate(Scene(**scene), stop_at_contact=False, check_every=900), 9)
     detect = median(lambda: b.detect_onset(run), 9)
     whole = sim + detect
     r = run.run

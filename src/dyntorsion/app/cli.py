@@ -25,7 +25,8 @@ from .cli_fit import fit, fit_rows, print_fit
 from .cli_options import add_scene_options, parse_rates, scene_from
 from .cli_rtol import add_rtol_options, buckle_rtol, result_json, sweep_rtol
 from .contact_cli import add_contact_options, buckle_contact
-from .faults import EXIT_INTERRUPTED, describe
+from .faults import EXIT_INPUT, EXIT_INTERRUPTED, describe
+from .plugins import PluginError, load_plugins, plugins_in
 
 
 def _peak_twist(scene: Scene) -> float:
@@ -351,6 +352,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     (``--debug``: the traceback instead)."""
     argv = list(sys.argv[1:] if argv is None else argv)
     debug = "--debug" in argv
+    try:  # before the options are read: a plugin's kinds and end sets become choices
+        load_plugins(plugins_in(argv))
+    except PluginError as err:
+        if debug:
+            raise
+        print(f"dyntorsion: error: {err}", file=sys.stderr)
+        return EXIT_INPUT
     args = parser().parse_args([a for a in argv if a != "--debug"])
     if args.max_time is not None and not args.max_time > 0:
         print(f"dyntorsion: error: --max-time={args.max_time} must be > 0 seconds", file=sys.stderr)

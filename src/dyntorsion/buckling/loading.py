@@ -28,11 +28,21 @@ from typing import Any
 import numpy as np
 
 from ..model.ends import ENDS, EQ30, Ends, IllPosedEndsError, ends, ends_from_params
-from .history import History, _finite
-from .turning import TurnHold
+from .history import HISTORIES, History, _finite, history_from_params
+from .loads import (
+    AXIAL_LOADS,
+    DISTRIBUTED_LOADS,
+    AxialLoad,
+    DistributedLoad,
+    EndLoad,
+    distributed_from_params,
+    load_from_params,
+)
+from .turning import TurnHold  # registers the spin history turn-hold
 
 __all__ = [
     "History",
+    "HISTORIES",
     "Ramp",
     "SmoothStart",
     "Polynomial",
@@ -40,6 +50,13 @@ __all__ = [
     "Tabulated",
     "Custom",
     "AxialLoad",
+    "EndLoad",
+    "DistributedLoad",
+    "AXIAL_LOADS",
+    "DISTRIBUTED_LOADS",
+    "load_from_params",
+    "distributed_from_params",
+    "TurnHold",
     "Ends",
     "ENDS",
     "EQ30",
@@ -329,56 +346,11 @@ class Custom(History):
             out["unkeyed"] = why
         return out
 
-
-def history_from_params(p: Mapping[str, Any]) -> History:
-    """The history of a cache key (its ``params()``); a custom history cannot be rebuilt
-    (its function is code, not data)."""
-    q = dict(p)
-    kind = q.pop("kind", None)
-    if kind == "ramp":
-        return Ramp(a=q["a"], kappa0=q["kappa0"])
-    if kind == "smooth-start":
-        return SmoothStart(**q)
-    if kind == "polynomial":
-        return Polynomial(tuple(q["coefficients"]))
-    if kind == "ramp-hold":
-        return RampHold(**q)
-    if kind == "tabulated":
-        return Tabulated(tuple(q["t"]), tuple(q["kappa"]))
-    if kind == "turn-hold":
-        return TurnHold(**q)
-    if kind == "custom":
+    @classmethod
+    def from_params(cls, params: Mapping[str, Any]) -> Custom:
+        """Refused: a custom history's function is code, not data."""
         raise ValueError(
-            f"history {q.get('name')!r} is a custom function: rebuild its Scene in Python "
-            "with the same Custom(name, func, parameters)"
+            f"history {params.get('name')!r} is a custom function: rebuild its Scene in Python "
+            "with the same Custom(name, func, parameters), or define a History subclass with "
+            "a kind (it registers itself and is rebuilt from the store)"
         )
-    raise ValueError(
-        f"history kind={kind!r}; allowed: ramp, smooth-start, polynomial, ramp-hold, tabulated, "
-        "turn-hold, custom"
-    )
-
-
-# ================================================================= axial load
-@dataclass(frozen=True)
-class AxialLoad:
-    """Axial force at the far end, n3(L, t) = T + T_rate t [N]; positive = tension.
-
-    The initial state carries n3 = T along the whole rod (the straight rod under an
-    axial force T is in equilibrium), so a constant load starts without a jolt."""
-
-    T: float = 0.0
-    T_rate: float = 0.0
-
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "T", _finite("tension T", self.T))
-        object.__setattr__(self, "T_rate", _finite("tension rate T_rate", self.T_rate))
-
-    def __call__(self, t):
-        return self.T + self.T_rate * np.asarray(t, dtype=float)
-
-    @property
-    def is_zero(self) -> bool:
-        return self.T == 0.0 and self.T_rate == 0.0
-
-    def params(self) -> dict[str, Any]:
-        return {"T": self.T, "T_rate": self.T_rate}

@@ -23,15 +23,20 @@ others:
 * Chebyshev collocation of the isotropic equation B w'''' - i M w''' - T w'' = 0
   (:func:`critical_twist_numerical`), an eigenproblem for M.
 
-End conditions: ``"clamped"`` (eq 30 in statics: position and tangent held at both ends,
-the far end free to slide axially) and ``"pinned"`` (position held, free to tilt, the end
-moment axial: Greenhill's classical case, a static theory only; the dynamic scenes'
-pinned set applies a follower torque, which this theory does not cover).
+End conditions (:data:`STATIC_ENDS`): ``"clamped"`` (eq 30 in statics: position and
+tangent held at both ends, the far end free to slide axially) and ``"pinned"`` (position
+held, free to tilt, the end moment axial: Greenhill's classical case, a static theory
+only; the dynamic scenes' pinned set applies a follower torque, which this theory does
+not cover).  A dynamic end set names its static ends in ``Ends.static``; a user's set
+whose critical twist is known only numerically adds a :class:`StaticEnds` with its own
+``solver`` to :data:`STATIC_ENDS`.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
+from dataclasses import dataclass
 from functools import lru_cache
 
 import mpmath
@@ -45,6 +50,7 @@ __all__ = [
     "M_CRI_MP",
     "m_cri",
     "STATIC_ENDS",
+    "StaticEnds",
     "critical_moment",
     "critical_twist",
     "critical_twist_transfer",
@@ -53,9 +59,6 @@ __all__ = [
     "greenhill_pinned",
     "euler_load",
 ]
-
-#: end conditions the static theory covers
-STATIC_ENDS = ("clamped", "pinned")
 
 
 def _m_cri(digits: int = 40) -> mpmath.mpf:
@@ -77,12 +80,7 @@ m_cri = float(M_CRI_MP)
 def _check(rod: Rod, tension: float, ends: str) -> float:
     if not isinstance(rod, Rod):
         raise TypeError(f"rod={rod!r} must be a Rod")
-    if ends not in STATIC_ENDS:
-        raise ValueError(
-            f"ends={ends!r}: the static theory covers {STATIC_ENDS} only (the dynamic end sets "
-            "'clamped-free-lateral', 'clamped-free', 'pinned-follower' have no static critical "
-            "twist here: give the scene an explicit t_end)"
-        )
+    _check_name(ends)
     if isinstance(tension, bool) or not isinstance(tension, int | float | np.floating | np.integer):
         raise TypeError(f"tension={tension!r} must be a real number [N]")
     T = float(tension)
@@ -99,8 +97,8 @@ def _check(rod: Rod, tension: float, ends: str) -> float:
 def euler_load(rod: Rod, ends: str = "clamped") -> float:
     """The compressive load [N] at which the untwisted rod buckles: 4 pi^2 B/L^2 (clamped),
     pi^2 B/L^2 (pinned), B = min(B1, B2)."""
-    factor = 4.0 if ends == "clamped" else 1.0
-    return factor * math.pi**2 * rod.B / rod.L**2
+    _check_name(ends)
+    return STATIC_ENDS[ends].euler_factor * math.pi**2 * rod.B / rod.L**2
 
 
 def greenhill_pinned(B: float, L: float, tension: float = 0.0) -> float:
@@ -179,10 +177,45 @@ def _system_matrix(b1: float, b2: float, m: float, kappa: float, t: float) -> np
     return A
 
 
+@dataclass(frozen=True)
+class StaticEnds:
+    """End conditions of the static theory: ``tangent_held`` (clamped) or the end moment
+    axial (pinned), the Euler load's factor (4 clamped, 1 pinned: P = factor pi^2 B/L^2),
+    the isotropic closed form of the critical moment (``greenhill``, (B, L, T) -> M) and,
+    for a set known only numerically, ``solver`` ((rod, T) -> kappa_cri [1/m]), which
+    :func:`critical_twist` then calls instead."""
+
+    tangent_held: bool
+    euler_factor: float
+    greenhill: Callable[[float, float, float], float] | None
+    solver: Callable[[Rod, float], float] | None = None
+    description: str = ""
+
+    @property
+    def route(self) -> str:
+        """How its critical twist is found: ``"closed form"`` or ``"numerical"``."""
+        return "numerical" if self.solver is not None else "closed form"
+
+
+#: the end conditions the static theory covers, by the name an ``Ends.static`` gives
+STATIC_ENDS: dict[str, StaticEnds] = {
+    "clamped": StaticEnds(True, 4.0, greenhill_clamped, description="eq (30): clamped"),
+    "pinned": StaticEnds(False, 1.0, greenhill_pinned, description="pinned, axial torque"),
+}
+
+
+def _check_name(ends: str) -> None:
+    if ends not in STATIC_ENDS:
+        raise ValueError(
+            f"ends={ends!r}: the static theory covers {', '.join(map(repr, STATIC_ENDS))} "
+            "only (a dynamic end set without a static critical twist needs an explicit t_end)"
+        )
+
+
 def _end_rows(ends: str, b1: float, b2: float, m: float, kappa: float) -> np.ndarray:
     rows = np.zeros((4, 8))
     rows[0, 6] = rows[1, 7] = 1.0  # q = 0: position held
-    if ends == "clamped":
+    if STATIC_ENDS[ends].tangent_held:
         rows[2, 0] = rows[3, 1] = 1.0  # phi1 = phi2 = 0: tangent held
     else:  # pinned, axial torque: B1 k1 + M phi2 = 0, B2 k2 - M phi1 = 0
         rows[2] = b1 * np.array([0, -kappa, 1, 0, 0, 0, 0, 0]) + m * np.eye(8)[1]
@@ -240,7 +273,7 @@ def critical_twist_transfer(rod: Rod, tension: float = 0.0, ends: str = "clamped
     splits the isotropic double root), found as the dip of the determinant below zero
     between its neighbours; the lowest root is refined by Brent's method to 1e-15."""
     T = _check(rod, tension, ends)
-    iso = greenhill_pinned if ends == "pinned" else greenhill_clamped
+    iso = STATIC_ENDS[ends].greenhill
     guess = iso(rod.B, rod.L, T) * rod.L / rod.C  # isotropic twist with the weaker B, times L
     top = guess * 3.0 * max(rod.B1, rod.B2) / rod.B
     ks, signs, small = [], [], []
@@ -318,6 +351,8 @@ def critical_twist(rod: Rod, tension: float = 0.0, ends: str = "clamped") -> flo
     ``"clamped"`` (eq 30) or ``"pinned"`` (axial torque).  Other end sets, and
     compressions at or beyond the Euler load, raise :class:`ValueError`."""
     T = _check(rod, tension, ends)
+    if STATIC_ENDS[ends].solver is not None:
+        return float(STATIC_ENDS[ends].solver(rod, T))
     if not rod.isotropic:
         return critical_twist_transfer(rod, T, ends)
     return critical_moment(rod, T, ends) / rod.C
@@ -329,8 +364,8 @@ def critical_moment(rod: Rod, tension: float = 0.0, ends: str = "clamped") -> fl
     T = _check(rod, tension, ends)
     if not rod.isotropic:
         return critical_twist(rod, T, ends) * rod.C
-    if ends == "pinned":
-        return greenhill_pinned(rod.B1, rod.L, T)
+    if not STATIC_ENDS[ends].tangent_held:
+        return STATIC_ENDS[ends].greenhill(rod.B1, rod.L, T)
     if T == 0.0 and rod.E is not None:
         return 2 * math.pi * rod.E * rod.I1 * m_cri / rod.L  # eq (31) as written
     return greenhill_clamped(rod.B1, rod.L, T)
@@ -374,7 +409,7 @@ def critical_twist_numerical(
     A = (B * D4 - T * D2).astype(complex)
     Bm = 1j * D3
     rows = [0, n, 1, n - 1]  # replace two rows at each end by the boundary conditions
-    if ends == "clamped":
+    if STATIC_ENDS[ends].tangent_held:
         bc_a = [I[0], I[n], D[0], D[n]]
         bc_b = [0 * I[0]] * 4
     else:

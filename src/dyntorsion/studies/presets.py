@@ -15,6 +15,7 @@ from ..buckling.scene import Scene
 from ..buckling.seed import STATED, Perturbation
 from ..buckling.statics import critical_twist, euler_load
 from ..genalpha import Newton, StepControl
+from ..model.ends import EQ30
 from ..model.rod import Rod
 from ..store.results import Store
 from .sweep import run_sweep
@@ -114,7 +115,7 @@ TENSION_RATES: tuple[float, ...] = FIG10_RATES[::3]
 def tension_scenes(fraction: float, rates: Iterable[float] = TENSION_RATES) -> list[Scene]:
     """The rate sweep at axial load ``fraction`` x the clamped Euler load (Table 1 rod)."""
     rod = Rod()
-    T = fraction * euler_load(rod, "clamped")
+    T = fraction * euler_load(rod, EQ30.static)
     kappa0 = 10.0 if T == 0.0 else 10.0 * critical_twist(rod, T) / critical_twist(rod)
     return [Scene(a=a, kappa0=kappa0, tension=T, seed=SEEDS["stated"]) for a in rates]
 

@@ -165,12 +165,13 @@ class ContactScene:
                 "run past contact applies the seed as a constant force in the body frame; give "
                 "frame='body' and duration=None"
             )
-        if self.scene.ends.name not in ("clamped", "clamped-turned"):
+        if self.scene.loads:
             raise ValueError(
-                f"ends={self.scene.ends.name!r}: past contact needs the ends of eq 30 "
-                "('clamped') or their rotation control ('clamped-turned'): both ends on the "
-                "e3 axis close the writhe"
+                "loads: a run past contact applies the seed only (no distributed loads)"
             )
+        self.scene.ends.require(
+            "contact", "both ends held on the e3 axis close the writhe (eq 30's ends do)"
+        )
 
     def params(self) -> dict[str, Any]:
         return {**self.scene.params(), "contact": self.contact.params()}
