@@ -6,6 +6,7 @@ ValueError naming the field.  The hand-picked probes are in tests/test_faults_in
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import mpmath as mp
@@ -15,6 +16,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from dyntorsion.buckling.loading import Polynomial, Ramp, RampHold, SmoothStart, Tabulated
+from dyntorsion.buckling.scene import Scene, run_scene
 from dyntorsion.buckling.turning import TurnHold
 
 mp.mp.dps = 50
@@ -128,3 +130,42 @@ def test_a_table_passes_through_its_points_and_holds_after_the_last(steps, kappa
     for g, want in zip(got, [*k, k[-1]]):
         assert _close(g, mp.mpf(want), scale=mp.mpf(scale) * 1e-3 if scale else None)
     assert math.isfinite(float(np.max(np.abs(got))))
+
+
+# ------------------------------------------------------------ None for a Scene field
+SCENE_FIELDS = [f.name for f in dataclasses.fields(Scene)]
+#: the fields whose None is documented: the paper's kappa0 = 10, the horizon rule's
+#: t_end, the ramp (no other history)
+NONE_MEANS = {"kappa0": 10.0, "t_end": None, "history": None}
+
+
+@given(st.sets(st.sampled_from(SCENE_FIELDS), min_size=1, max_size=3))
+def test_none_for_any_scene_field_is_its_default_or_refused_naming_it(names):
+    """Scene(seed=None), Scene(scheme=None), ... raised AttributeError on NoneType deep in
+    the run; now a TypeError or ValueError names a field set to None, or None is the
+    field's documented default."""
+    kwargs = {"a": 16.0, "t_end": 1.0, **dict.fromkeys(names)}
+    refused = names - set(NONE_MEANS)
+    if not refused:
+        scene = Scene(**kwargs)
+        assert all(getattr(scene, n) == NONE_MEANS[n] for n in names if n != "t_end")
+        return
+    with pytest.raises((TypeError, ValueError)) as err:
+        Scene(**kwargs)
+    assert any(f"{n}=None" in str(err.value) or f"{n} " in str(err.value) for n in refused)
+
+
+@given(
+    st.one_of(
+        st.none(), st.integers(), st.text(max_size=5), st.dictionaries(st.just("a"), st.floats())
+    )
+)
+def test_run_scene_of_anything_but_a_scene_is_a_typeerror_naming_it(thing):
+    with pytest.raises(TypeError, match=r"^scene=.* must be a dyntorsion\.buckling\.scene\.Scene"):
+        run_scene(thing)
+
+
+def test_a_scene_without_variations_is_refused():
+    """variations=() gave t_c with both uncertainties 0.0."""
+    with pytest.raises(ValueError, match=r"variations=\(\) must hold at least one window"):
+        Scene(a=16.0, variations=())

@@ -25,6 +25,9 @@ from .loading import ENDS, AxialLoad, History, Ramp, SmoothStart, history_from_p
 from .onset import WINDOW, check_window, classify_onset, detect_onset
 from .resolution import judge
 from .run import BucklingRun
+from .scene_fields import TYPED as _TYPED
+from .scene_fields import canonical_terms as _canonical_terms
+from .scene_fields import public as _public
 from .seed import Perturbation
 from .simulation import _load, simulate
 from .statics import critical_twist
@@ -103,8 +106,9 @@ class Scene:
                 "start='smooth' shapes the paper's ramp; a history brings its own start "
                 "(start='step' runs it from the unstressed rod)"
             )
-        if not isinstance(self.rod, Rod):
-            raise TypeError(f"rod={self.rod!r} must be a dyntorsion.Rod")
+        for name, kind in _TYPED.items():
+            if not isinstance(getattr(self, name), kind):
+                raise TypeError(f"{name}={getattr(self, name)!r} must be a {_public(kind)}")
         if self.history is None:
             if self.a is None:
                 raise ValueError("a=None: give the loading rate a (the paper's ramp) or a history")
@@ -126,6 +130,11 @@ class Scene:
             raise ValueError(f"dt={self.dt!r} must be > 0")
         if not real("horizon", self.horizon) > 0:
             raise ValueError(f"horizon={self.horizon!r} must be > 0")
+        if not isinstance(self.variations, tuple | list) or not self.variations:
+            raise ValueError(
+                f"variations={self.variations!r} must hold at least one window (lo, hi): "
+                "the onset's uncertainty is its spread over them"
+            )
         check_window(self.window, self.variations)
         set_(self, "window", tuple(float(v) for v in self.window))
         set_(self, "variations", tuple(tuple(float(v) for v in w) for w in self.variations))
@@ -267,29 +276,11 @@ class Scene:
         )
 
 
-def _canonical_terms(terms: Any) -> tuple[tuple[str, float], ...]:
-    """Model switches as a sorted tuple of (name, weight); a name given twice is refused
-    (it would be keyed as one weight and simulated with another)."""
-    pairs = list(terms.items()) if isinstance(terms, Mapping) else list(terms)
-    names = [str(k) for k, _ in pairs]
-    twice = sorted({n for n in names if names.count(n) > 1})
-    if twice:
-        raise ValueError(f"terms: switch(es) {twice} given more than once")
-    out = []
-    for k, v in pairs:
-        try:
-            w = float(v)
-        except (TypeError, ValueError):
-            raise ValueError(f"terms[{k!r}]={v!r} must be a number (a weight, 1 = on)") from None
-        if not math.isfinite(w):
-            raise ValueError(f"terms[{k!r}]={v!r} must be a finite weight")
-        out.append((str(k), w))
-    return tuple(sorted(out))
-
-
 def simulate_scene(scene: Scene, t_end: float | None = None) -> BucklingRun:
     """:func:`~dyntorsion.buckling.simulation.simulate` with everything ``scene`` sets, to ``t_end``
     (default: the scene's own duration); a Newton failure ends the run."""
+    if not isinstance(scene, Scene):
+        raise TypeError(f"scene={scene!r} must be a {_public(Scene)}")
     return simulate(
         scene.rod,
         history=scene.twist,
