@@ -33,13 +33,7 @@ def describe(err: BaseException) -> tuple[str, int]:
     if isinstance(err, ConnectionError | BrokenExecutor):
         return text, EXIT_FAILED
     if isinstance(err, OSError):
-        where = f" {err.filename}" if err.filename else ""
-        what = err.strerror or text
-        return (
-            f"{what}:{where}; check that the path exists, is writable and the disk has space "
-            "(--store or $DYNTORSION_DATA)",
-            EXIT_FAILED,
-        )
+        return _os_error(err, text), EXIT_FAILED
     if isinstance(err, MemoryError):
         return f"out of memory ({text or 'no detail'}); raise --dt or lower --t-end", EXIT_FAILED
     return (
@@ -59,3 +53,21 @@ def blank_value(argv: list[str]) -> str | None:
             name = argv[i - 1] if i and argv[i - 1].startswith("-") else "an argument"
             return f"{name}={tok!r} is empty; give a value or leave the option out"
     return None
+
+
+def _os_error(err: OSError, text: str) -> str:
+    """What a failed file operation means for the store: the path and what to do."""
+    from pathlib import Path
+
+    where = Path(err.filename) if err.filename else None
+    if where is not None and isinstance(err, FileExistsError | NotADirectoryError):
+        for folder in (where, *where.parents):
+            if folder.is_symlink() and not folder.exists():
+                return f"{folder} is a broken symbolic link, not a folder; give --store a folder"
+            if folder.is_file():
+                return f"{folder} is a file, not a folder; give --store a folder"
+    what = err.strerror or text
+    return (
+        f"{what}{f': {where}' if where else ''}; check that the path exists, is writable and "
+        "the disk has space (--store or $DYNTORSION_DATA)"
+    )

@@ -31,7 +31,7 @@ from pathlib import Path
 from typing import Any, TypedDict, Unpack
 
 from .leases import LEASE_SUFFIX, holder_of
-from .results import Store
+from .results import Store, UnsavedResultError
 
 __all__ = ["MapOptions", "DEFAULT_OPTIONS", "cached_map", "MissingResultError", "WAIT_POLL_S"]
 
@@ -188,10 +188,18 @@ class _Sweep:
         self.bar = None
 
     def finish(self, i: int, result: dict[str, Any], wall: float) -> None:
-        path = self.store.save(self.kind, self.items[i].params(), result, wall_time=wall)
+        tail = f" -> {self.show} = {result[self.show]}" if self.show else ""
+        try:
+            path = self.store.save(self.kind, self.items[i].params(), result, wall_time=wall)
+        except OSError as err:  # the disk filled during the run: say what was computed
+            lost = UnsavedResultError(
+                err.errno, f"{err.strerror}; computed, not kept: {self.items[i].label()}{tail}",
+                err.filename,
+            )  # fmt: skip
+            lost.result = result
+            raise lost from err
         self.records[i] = (self.store.read(path), False)
         self.release(i)
-        tail = f" -> {self.show} = {result[self.show]}" if self.show else ""
         self.say(f"done in {wall:.1f} s: {self.items[i].label()}{tail}")
         if self.bar is not None:
             self.bar.update()

@@ -21,7 +21,7 @@ from typing import Any, Unpack
 import pandas as pd
 
 from ..buckling.scene import Scene, run_scene, simulate_scene
-from ..store.results import Store, digest
+from ..store.results import Store, digest, require_result
 from ..store.workers import MapOptions, MissingResultError, cached_map
 
 __all__ = [
@@ -35,6 +35,10 @@ __all__ = [
 ]
 
 KIND = "buckling-onset"
+#: what every onset record holds (a record without one is damaged: moved aside, recomputed)
+require_result(
+    KIND, ("status", "stopped", "steps", "t_c", "kappa3", "uncertainty_t", "uncertainty_kappa3")
+)
 
 
 def _row(scene: Scene, record: dict[str, Any], cached: bool) -> dict[str, Any]:
