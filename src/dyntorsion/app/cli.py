@@ -57,7 +57,7 @@ def _buckle(args: argparse.Namespace) -> int:
         print(
             f"cached     read from {args.store}, not recomputed (--on-stale recompute to redo a stale one)"
         )
-    print(f"stopped    {row['stopped']}")
+    print(f"stopped    {_stopped(row)}")
     print(f"status     {row['status']}")
     if row["status"] == "no-onset" and row["stopped"] == "t_end" and kappa_cri is not None:
         peak = _peak_twist(scene)
@@ -73,6 +73,9 @@ def _buckle(args: argparse.Namespace) -> int:
             "no static kappa_cri for this scene tells an instability from a rod bent by its seed"
         )
         return 1
+    if row["status"] == "failed":  # the onset was never reached: say so, not why none was read
+        print("no onset: the run failed (the line 'stopped') before the rod could buckle")
+        return 1
     if row["status"] != "buckled":
         why = row.get("onset_error") or "no onset detected before the run ended"
         print(why if row["status"] != "forced" else f"{why} (t_c is no critical time)")
@@ -83,6 +86,16 @@ def _buckle(args: argparse.Namespace) -> int:
         f"(static kappa_cri = {kc})"
     )
     return 0
+
+
+def _stopped(row: dict) -> str:
+    """The run's end; a Newton failure after a buckled onset is the post-buckling whip."""
+    if row["status"] == "buckled" and row["stopped"].startswith("failed"):
+        return (
+            "in the post-buckling whip, after the onset (a Newton failure there ends the run; "
+            f"the onset stands): {row['stopped']}"
+        )
+    return row["stopped"]
 
 
 def _sweep_scenes(args: argparse.Namespace) -> list[Scene]:

@@ -165,6 +165,13 @@ class ContactScene:
                 "run past contact applies the seed as a constant force in the body frame; give "
                 "frame='body' and duration=None"
             )
+        rod = self.scene.rod
+        if not self.contact.min_arc * rod.thickness < rod.L:
+            raise ValueError(
+                f"contact min_arc={self.contact.min_arc!r} diameters: allowed range [1, "
+                f"{rod.L / rod.thickness:g}), below the rod's length L / D (no two parts of it "
+                "could touch)"
+            )
         if self.scene.ends.name not in ("clamped", "clamped-turned"):
             raise ValueError(
                 f"ends={self.scene.ends.name!r}: past contact needs the ends of eq 30 "
