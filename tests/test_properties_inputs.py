@@ -22,6 +22,7 @@ from hypothesis import strategies as st
 from dyntorsion.buckling.loading import Polynomial, Ramp, RampHold, SmoothStart, Tabulated
 from dyntorsion.buckling.scene import Scene, run_scene
 from dyntorsion.buckling.turning import TurnHold
+from dyntorsion.store.fingerprint import register_kind
 
 mp.mp.dps = 50
 REL = 1e-12
@@ -224,6 +225,11 @@ def test_a_negative_number_in_any_notation_is_a_value_not_an_option(value, capsy
 
 
 # --------------------------------------------------------- signals on an executor
+#: a record kind of these tests' own items (their code: the sweep machinery)
+ITEMS = "test-items"
+register_kind(ITEMS, ("dyntorsion.store.workers:cached_map",))
+
+
 class _Item:
     def __init__(self, n: int) -> None:
         self.n = n
@@ -281,10 +287,10 @@ def test_an_interrupt_keeps_the_items_an_executor_runs(tmp_path, sig, delay, exe
     try:
         timer.start()
         with pytest.raises(KeyboardInterrupt):
-            cached_map([_Item(1), _Item(2), _Item(3)], _slow, "buckling-onset", store,
+            cached_map([_Item(1), _Item(2), _Item(3)], _slow, ITEMS, store,
                        executor=pool, jobs=2, progress=False)  # fmt: skip
     finally:
         timer.join()
         signal.signal(signal.SIGTERM, old)
-    kept = sorted(p.name for p in store.glob("buckling-onset-*.json"))
+    kept = sorted(p.name for p in store.glob(f"{ITEMS}-*.json"))
     assert len(kept) == 2  # the two running, not the third (never submitted)

@@ -135,7 +135,7 @@ def cached_map(
     line; ``command`` is the one the missing-result error recommends; ``options`` are the
     :class:`MapOptions` (defaults :data:`DEFAULT_OPTIONS`).
     """
-    from .location import default_store
+    from .location import checkout, default_store
 
     unknown = set(options) - set(DEFAULT_OPTIONS)
     if unknown:
@@ -167,7 +167,8 @@ def cached_map(
         missing = "\n  ".join(items[i].label() for i in todo)
         raise MissingResultError(
             f"{len(todo)} {kind} record(s) are not in {store.root}:\n  {missing}\n"
-            f"compute them with `make data` (or `{command}`)"
+            f"compute them with `{command}`"
+            + (" (or `make data` in the checkout)" if checkout() is not None else "")
         )
     if todo:
         for path in store.clean():

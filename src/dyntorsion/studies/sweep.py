@@ -91,6 +91,7 @@ def _legacy_status(scene: Scene, res: Mapping[str, Any]) -> str:
 def run_sweep(
     scenes: Sequence[Scene],
     store: Store | str | Path | None = None,
+    command: str = "dyntorsion sweep",
     **options: Unpack[MapOptions],
 ) -> pd.DataFrame:
     """Run (or read back) a sweep; one table row per scene, in the given order.
@@ -108,7 +109,8 @@ def run_sweep(
     the store the moment it completes, so an interrupted sweep loses at most the
     scenes that were running.  ``on_stale`` is passed to
     :meth:`~dyntorsion.store.results.Store.load`; ``compute=False`` only reads, and
-    raises :class:`MissingResultError` for any scene the store lacks.
+    raises :class:`MissingResultError` for any scene the store lacks, naming ``command``
+    as the one that computes them.
     """
     bad = [s for s in scenes if not isinstance(s, Scene)]
     if bad:
@@ -123,6 +125,6 @@ def run_sweep(
         store,
         **options,
         show="kappa3",
-        command="dyntorsion sweep",
+        command=command,
     )
     return pd.DataFrame([_row(scenes[i], *records[i]) for i in range(len(scenes))])
