@@ -61,6 +61,13 @@ def _buckle(args: argparse.Namespace) -> int:
     print(f"status     {row['status']}")
     if row["status"] == "no-onset" and row["stopped"] == "t_end" and kappa_cri is not None:
         peak = _peak_twist(scene)
+        if peak >= kappa_cri and row.get("u3_peak") == 0.0:
+            print(
+                f"no onset: the end twist passed kappa_cri = {kc} 1/m, yet u3(L, t) stayed exactly "
+                f"0: nothing this grid and seed resolve moved the rod (bending time T0 = "
+                f"{scene.rod.T0:.3g} s, dt = {scene.dt:g} s); use --fidelity, or a larger --seed"
+            )
+            return 1
         if peak < kappa_cri:
             print(
                 f"no onset: the end twist stays below kappa_cri = {kc} 1/m (at most "
