@@ -150,8 +150,8 @@ class Scene:
             raise ValueError(f"t_end={self.t_end!r} must be > 0 (or None for the horizon rule)")
         if self.duration() <= 0:
             raise ValueError(
-                f"kappa0={self.kappa0} lies beyond the horizon twist "
-                f"{self.kappa0 + self.a * self.duration():.4g}; give t_end"
+                f"kappa0={self.kappa0} lies beyond the horizon twist (kappa_cri + horizon x "
+                "the paper's delay at this rate, eqs 33-34): the run would end before it starts; give t_end"
             )
         check_time_grid(self.dt, self.duration())
 
