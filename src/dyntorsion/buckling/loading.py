@@ -67,6 +67,10 @@ __all__ = [
 ]
 
 
+#: t / tau past which exp(-(t / tau)^4) is 0 in floating point (caps x so that x**4 is finite)
+_FLAT = 1e10
+
+
 @dataclass(frozen=True)
 class Ramp(History):
     """The paper's history: kappa3(0, t) = kappa0 + a t (eq 30)."""
@@ -112,7 +116,8 @@ class SmoothStart(History):
 
     def __call__(self, t):
         t = np.asarray(t, dtype=float)
-        x = np.maximum(t / self.tau, 0.0)
+        # beyond x = 1e10 the transition is 1 to the last bit; the cap keeps x**4 finite
+        x = np.clip(t, 0.0, _FLAT * self.tau) / self.tau
         # section 5's f(x) = exp(-x^4) (waves.transitions.smoothing), written out so that
         # the records of this history do not hang on section 5's code (a test ties them)
         return self.kappa0 * -np.expm1(-(x**4)) + self.a * t
@@ -149,7 +154,9 @@ class Polynomial(History):
 class RampHold(History):
     """A ramp kappa0 + a t rounded smoothly into a hold at ``hold``:
     h = hold + a tau (x - log(1 + e^x)), x = (kappa0 + a t - hold) / (a tau),
-    ``tau`` [s] the time over which the corner is rounded (C-infinity)."""
+    ``tau`` [s] the time over which the corner is rounded (C-infinity).  Evaluated as
+    kappa0 + a t - a tau log(1 + e^x) for x < 0 and hold - a tau log(1 + e^-x) otherwise,
+    the same function without the cancellation of a large ``hold`` against the ramp."""
 
     a: float
     hold: float
@@ -166,8 +173,15 @@ class RampHold(History):
             raise ValueError(f"hold={self.hold} must exceed kappa0={self.kappa0}")
 
     def __call__(self, t):
-        x = (self.kappa0 + self.a * np.asarray(t, dtype=float) - self.hold) / (self.a * self.tau)
-        return self.hold + self.a * self.tau * (x - np.logaddexp(0.0, x))
+        # x - log(1 + e^x) = -log(1 + e^-x), written on each side of the corner so that
+        # no large term cancels: the ramp less a tau log(1 + e^x) before it (x < 0), the
+        # hold less a tau log(1 + e^-x) after it; exact to round-off for any hold
+        ramp = self.kappa0 + self.a * np.asarray(t, dtype=float)
+        scale = self.a * self.tau
+        x = (ramp - self.hold) / scale
+        before = ramp - scale * np.log1p(np.exp(np.minimum(x, 0.0)))
+        after = self.hold - scale * np.log1p(np.exp(-np.maximum(x, 0.0)))
+        return np.where(x < 0.0, before, after)
 
     def params(self) -> dict[str, Any]:
         return {

@@ -5,7 +5,6 @@ seed, grid, scheme, Newton options, onset rule -- and is the cache key of its re
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
 from dataclasses import asdict, dataclass, field
 from typing import Any
@@ -22,6 +21,7 @@ from .delay_law import paper_law
 from .loading import History, Ramp, SmoothStart, history_from_params
 from .loads import DistributedLoad, EndLoad, as_load, distributed_from_params, load_from_params
 from .onset import WINDOW, check_window
+from .scene_fields import TYPED, canonical_terms, public
 from .seed import Perturbation
 from .statics import critical_twist
 
@@ -100,10 +100,11 @@ class Scene:
                 "start='smooth' shapes the paper's ramp; a history brings its own start "
                 "(start='step' runs it from the unstressed rod)"
             )
-        if not isinstance(self.rod, Rod):
-            raise TypeError(f"rod={self.rod!r} must be a dyntorsion.Rod")
         if not isinstance(self.seed, Perturbation):
             set_(self, "seed", Perturbation(magnitude=real("seed", self.seed, " [N/m]")))
+        for name, kind in TYPED.items():
+            if not isinstance(getattr(self, name), kind):
+                raise TypeError(f"{name}={getattr(self, name)!r} must be a {public(kind)}")
         if self.history is None:
             if self.a is None:
                 raise ValueError("a=None: give the loading rate a (the paper's ramp) or a history")
@@ -125,14 +126,23 @@ class Scene:
             raise ValueError(f"dt={self.dt!r} must be > 0")
         if not real("horizon", self.horizon) > 0:
             raise ValueError(f"horizon={self.horizon!r} must be > 0")
+        if not isinstance(self.variations, tuple | list) or not self.variations:
+            raise ValueError(
+                f"variations={self.variations!r} must hold at least one window (lo, hi): "
+                "the onset's uncertainty is its spread over them"
+            )
         check_window(self.window, self.variations)
         set_(self, "window", tuple(float(v) for v in self.window))
         set_(self, "variations", tuple(tuple(float(v) for v in w) for w in self.variations))
         set_(self, "n_cells", int(self.n_cells))
         set_(self, "dt", float(self.dt))
-        set_(self, "terms", _canonical_terms(self.terms))
+        set_(self, "terms", canonical_terms(self.terms))
         set_(self, "rotary_inertia_scale", real("rotary_inertia_scale", self.rotary_inertia_scale))
         set_(self, "tension", as_load(self.tension))
+        if not isinstance(self.loads, tuple | list):
+            raise TypeError(
+                f"loads={self.loads!r} must be a tuple of dyntorsion.buckling.loads.DistributedLoad"
+            )
         set_(self, "loads", tuple(self.loads))
         for i, load in enumerate(self.loads):
             if not isinstance(load, DistributedLoad):
@@ -146,8 +156,8 @@ class Scene:
             raise ValueError(f"t_end={self.t_end!r} must be > 0 (or None for the horizon rule)")
         if self.duration() <= 0:
             raise ValueError(
-                f"kappa0={self.kappa0} lies beyond the horizon twist "
-                f"{self.kappa0 + self.a * self.duration():.4g}; give t_end"
+                f"kappa0={self.kappa0} lies beyond the horizon twist (kappa_cri + horizon x "
+                "the paper's delay at this rate, eqs 33-34): the run would end before it starts; give t_end"
             )
         check_time_grid(self.dt, self.duration())
 
@@ -285,23 +295,3 @@ class Scene:
             + (f" seed_duration={self.seed.duration:g}" if self.seed.duration else "")
             + (f" long={self.scheme.long_steps.factor}" if self.scheme.long_steps else "")
         )
-
-
-def _canonical_terms(terms: Any) -> tuple[tuple[str, float], ...]:
-    """Model switches as a sorted tuple of (name, weight); a name given twice is refused
-    (it would be keyed as one weight and simulated with another)."""
-    pairs = list(terms.items()) if isinstance(terms, Mapping) else list(terms)
-    names = [str(k) for k, _ in pairs]
-    twice = sorted({n for n in names if names.count(n) > 1})
-    if twice:
-        raise ValueError(f"terms: switch(es) {twice} given more than once")
-    out = []
-    for k, v in pairs:
-        try:
-            w = float(v)
-        except (TypeError, ValueError):
-            raise ValueError(f"terms[{k!r}]={v!r} must be a number (a weight, 1 = on)") from None
-        if not math.isfinite(w):
-            raise ValueError(f"terms[{k!r}]={v!r} must be a finite weight")
-        out.append((str(k), w))
-    return tuple(sorted(out))

@@ -109,6 +109,10 @@ def greenhill_pinned(B: float, L: float, tension: float = 0.0) -> float:
         return float(2 * B_ * mpmath.sqrt((mpmath.pi / L_) ** 2 + T_ / B_))
 
 
+#: the longest rod, in tension lengths L sqrt(T / B), whose critical moment is scanned for
+TENSION_LENGTHS = 1e4
+
+
 def greenhill_clamped(B: float, L: float, tension: float = 0.0, digits: int = 40) -> float:
     """Critical twisting moment of the isotropic clamped rod (Greenhill's determinant).
 
@@ -122,6 +126,13 @@ def greenhill_clamped(B: float, L: float, tension: float = 0.0, digits: int = 40
     0.05 B/L."""
     if tension == 0.0:
         return 2 * math.pi * B * m_cri / L
+    if not L * math.sqrt(max(tension, 0.0) / B) <= TENSION_LENGTHS:
+        raise ValueError(
+            f"tension={tension:g} N makes the rod {L * math.sqrt(max(tension, 0.0) / B):.3g} "
+            f"tension lengths sqrt(B/T) long; allowed range: at most {TENSION_LENGTHS:g} "
+            f"(tension <= {TENSION_LENGTHS**2 * B / L**2:.3g} N), the reach of the scan of "
+            "Greenhill's determinant"
+        )
     with mpmath.workdps(digits):
         B_, L_, T_ = mpmath.mpf(B), mpmath.mpf(L), mpmath.mpf(tension)
 

@@ -32,6 +32,7 @@ with its counterpart: the contact's work against the law's stored energy and das
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 
@@ -152,8 +153,10 @@ def work_done(lines: Mapping[str, float]) -> float:
 
 def share(lines: Mapping[str, float], key: str) -> float:
     """One line of a run's ``energy_scheme`` over the work done (:func:`work_done`); a run's
-    ``energy_residual_scheme`` is ``-share(lines, "rest")``."""
-    return lines[key] / work_done(lines)
+    ``energy_residual_scheme`` is ``-share(lines, "rest")``; NaN when no work was done (a
+    rod held still, e.g. by a vast viscous damping: no share to read)."""
+    work = work_done(lines)
+    return lines[key] / work if work != 0.0 else math.nan
 
 
 def nodal_share(energy: Mapping[str, float], key: str) -> float:

@@ -165,6 +165,13 @@ class ContactScene:
                 "run past contact applies the seed as a constant force in the body frame; give "
                 "frame='body' and duration=None"
             )
+        rod = self.scene.rod
+        if not self.contact.min_arc * rod.thickness < rod.L:
+            raise ValueError(
+                f"contact min_arc={self.contact.min_arc!r} diameters: allowed range [1, "
+                f"{rod.L / rod.thickness:g}), below the rod's length L / D (no two parts of it "
+                "could touch)"
+            )
         if self.scene.loads:
             raise ValueError(
                 "loads: a run past contact applies the seed only (no distributed loads)"
