@@ -17,7 +17,7 @@ from dyntorsion.buckling.loads import (
 )
 from dyntorsion.buckling.scene import Scene
 from dyntorsion.buckling.seed import SEED_FORMS, Perturbation, SeedForm
-from dyntorsion.store.results import Store
+from dyntorsion.store.results import RESULT_KEYS, Store
 from dyntorsion.studies import kinds  # noqa: F401  (registers the record kinds)
 
 
@@ -80,7 +80,8 @@ def test_user_parts_round_trip_through_the_store(tmp_path):
         seed=Perturbation(form="test-ends"), t_end=1.0, n_cells=10, dt=0.01,
     )  # fmt: skip
     store = Store(tmp_path)
-    path = store.save("buckling-onset", sc.params(), {"status": "test"})
+    result = {"status": "test", **dict.fromkeys(RESULT_KEYS["buckling-onset"])}
+    path = store.save("buckling-onset", sc.params(), result)
     back = Scene.from_params(store.read(path)["params"])
     assert back == sc
     assert back.params() == sc.params()
