@@ -12,7 +12,7 @@ import numpy as np
 from ..model.system import Boundary, System
 from .discrete import setup
 from .guard import check_memory, check_time, check_time_grid
-from .march import full_newton_iterations
+from .march import StepContext, full_newton_iterations
 from .newton import Newton
 from .parts import Grid, Output, Sources, Stops
 from .plan import Levels, Plan, Source, gate_of, initial_rate
@@ -96,8 +96,8 @@ def integrate(
     con, work, fac = setup(system, scheme, n_cells, ds, dt, left, right, y0, rate0)
     plan = Plan.of(system, n1, n_steps, t0, dt, record, record_every, snapshots, stop, check_every)
     levels = Levels.of(times, left, right, src)
-    ctx = (con, work, fac, newton.options())
-    stepper = Stepper(system, scheme, ds, dt, left, right, levels, ctx, t0)
+    ctx = StepContext(con, work, fac, newton.options())
+    stepper = Stepper(system, scheme, grid, left, right, levels, ctx)
     recorder = Recorder(plan, times, y0, record_every)
     stopper = Stopper(stop, gate_of(system, stops.gate, ds, stop), plan, n_steps, work.y_old)
     stopped, failure, done = "t_end", None, 0
