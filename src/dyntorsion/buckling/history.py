@@ -9,16 +9,21 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["History"]
+__all__ = ["History", "finite_value"]
 
 
-def _finite(name: str, value: Any) -> float:
+def finite_value(name: str, value: Any) -> float:
+    """``value`` as a float if it is a finite real number, else a TypeError or ValueError
+    naming the parameter ``name``."""
     if isinstance(value, bool) or not isinstance(value, int | float | np.floating | np.integer):
         raise TypeError(f"{name}={value!r} must be a real number")
     x = float(value)
     if not math.isfinite(x):
         raise ValueError(f"{name}={value!r} must be finite")
     return x
+
+
+_finite = finite_value  # the name loading.py imports
 
 
 class History:
