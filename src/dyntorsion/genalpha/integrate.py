@@ -94,7 +94,7 @@ def integrate(
     src = Source.of(s, nf, sources.separable, sources.field)
     rate0 = initial_rate(system, y0, ds, y_t0, src, t0)
     con, work, fac = setup(system, scheme, n_cells, ds, dt, left, right, y0, rate0)
-    plan = Plan.of(system, n1, n_steps, t0, dt, record, record_every, snapshots, stop, check_every)
+    plan = Plan.of(system, grid, n_steps, output, stops)
     levels = Levels.of(times, left, right, src)
     ctx = StepContext(con, work, fac, newton.options())
     stepper = Stepper(system, scheme, grid, left, right, levels, ctx)

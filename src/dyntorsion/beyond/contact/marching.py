@@ -41,6 +41,7 @@ from ...genalpha.newton import (
 )
 from ...genalpha.plan import Source as EngineSource
 from ...genalpha.plan import initial_rate
+from .budget import Level, Loads
 from .implicit import (
     NO_PAIRS,
     Known,
@@ -323,8 +324,9 @@ def march_implicit(between, engine: Engine, grid, y0, left, right, q_seed,
         g_t = con.co.g_t  # eq (11): the new rate from the new level
         rate = (w.y - w.y_old) / (g_t * h) - (1.0 - g_t) / g_t * w.rate_old
         between.budget.step(
-            con.co, h, w.y_old, w.y, w.rate_old, rate, q_seed, state["q_old"], q_new
-        )
+            con.co, h, Level(w.y_old, w.rate_old), Level(w.y, rate),
+            Loads(q_seed, state["q_old"], q_new),
+        )  # fmt: skip
         w.rate_old[:, :] = rate
         w.y_old[:, :] = w.y
         state["q_old"] = q_new
