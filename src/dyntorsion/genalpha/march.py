@@ -187,6 +187,7 @@ def march(F, dF, test, ctx, forcing, rec, halt, stats):
     ``test(y, halt.watch)`` (a :class:`~.watch.Watch`, consulted at its levels
     ``rec.offset + k + 1``) said stop.
     """
+    # the step's constants, state and work arrays, LU factors, Newton options
     con, w, fac, opts = ctx.con, ctx.work, ctx.fac, ctx.opts
     gate, watch = halt.gate, halt.watch
     co = con.co
