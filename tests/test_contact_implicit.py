@@ -27,7 +27,7 @@ from dyntorsion.beyond.contact.linear import (
     woodbury_solve,
 )
 from dyntorsion.beyond.contact.marching import factor_jacobian, residual_jacobian
-from dyntorsion.genalpha.discrete import setup
+from dyntorsion.genalpha.discrete import Start, setup
 from dyntorsion.genalpha.scheme import Scheme
 from dyntorsion.model.cosserat import Cosserat
 from dyntorsion.model.rod import Rod
@@ -147,7 +147,8 @@ def test_the_contact_solves_are_the_dense_solve(solver):
     left, right = scene.ends.rows(system, scene.twist, scene.tension)
     y0 = np.zeros((N + 1, NF))
     y0[:, system.index("k3")] = 10.0
-    con, w, fac = setup(system, Scheme(), N, rod.L / N, 2.5e-4, left, right, y0, np.zeros_like(y0))
+    start = Start(y0, np.zeros_like(y0))
+    con, w, fac = setup(system, Scheme(), N, rod.L / N, 2.5e-4, left, right, start)
     w.y[:, :] = y0 + 1e-3 * rng.normal(size=y0.shape)
     gL, gR = left.at(np.array([2.5e-4]))[0], right.at(np.array([2.5e-4]))[0]
     res = residual_jacobian(system.F, system.dF, con, gL, gR, w)

@@ -30,7 +30,16 @@ from numba.experimental.function_type import _get_wrapper_address
 from ..._numba import A1, A2, JACOBIAN_SIGNATURE, LOAD_SIGNATURE, jit
 from ...buckling.stops import STRAIGHT
 from ...genalpha import abd as _abd
-from ...genalpha.discrete import CONSTANTS, WORK, constants, factor, prepare_step, residual, setup
+from ...genalpha.discrete import (
+    CONSTANTS,
+    WORK,
+    Start,
+    constants,
+    factor,
+    prepare_step,
+    residual,
+    setup,
+)
 from ...genalpha.march import StepContext
 from ...genalpha.newton import (
     NEWTON_OPTIONS,
@@ -252,7 +261,7 @@ def march_implicit(between, engine: Engine, grid, y0, left, right, q_seed,
     n_steps = int(math.ceil((grid.t_end - grid.t0) / grid.dt - 1e-9))
     src0 = EngineSource.of(grid.s, nf, (q_seed, None), None)
     rate0 = initial_rate(system, y0, ds, "consistent", src0, grid.t0)
-    _, w, fac = setup(system, scheme, n1 - 1, ds, grid.dt, left, right, y0, rate0)
+    _, w, fac = setup(system, scheme, n1 - 1, ds, grid.dt, left, right, Start(y0, rate0))
     whole = _Level(system, scheme, ds, grid.dt, left, right, between.law, between.c.smooth)
     h0 = grid.dt / substeps
     j_max = max(0, int(math.floor(math.log2(h0 / min_step)))) if h0 > min_step else 0
