@@ -15,7 +15,7 @@ Nothing is asserted.
 
 With ``--baseline COMMIT`` it also runs a whole scene past contact with the code of this
 checkout and of COMMIT (a temporary git worktree, alternating subprocesses so that both see
-the same load): PyElastica's plectoneme scene (``benchmarks/plectoneme_dyntorsion.py``'s
+the same load): PyElastica's plectoneme scene (``dyntorsion.studies.contact.plectoneme_dyntorsion``'s
 ``contact_scene``, from this checkout in both runs) on N = 100, dt = 0.02 s to t = 30 s (first contact at 8.9 s, the plectoneme forming from
 ~12 s), after one run of each that compiles its kernels, and prints the seconds per contact step, the run's wall time and its writhe at the
 end (the same to rounding in both).
@@ -42,9 +42,9 @@ import numpy as np
 
 from dyntorsion import Rod, __version__
 from dyntorsion.beyond.contact.linear import sparse_from, sparse_solve, woodbury_solve
-from dyntorsion.beyond.contact.marching import _factor, _residual_jacobian
+from dyntorsion.beyond.contact.marching import factor_jacobian, residual_jacobian
 from dyntorsion.buckling.scene import Scene
-from dyntorsion.genalpha.discrete import setup
+from dyntorsion.genalpha.discrete import Start, setup
 from dyntorsion.genalpha.scheme import Scheme
 from dyntorsion.model.cosserat import Cosserat
 from worktree import ROOT, checkout, run_code, run_json
@@ -68,11 +68,11 @@ def case(n: int, k: int, rng):
     left, right = scene.ends.rows(system, scene.twist, scene.tension)
     y0 = np.zeros((n + 1, nf))
     y0[:, system.index("k3")] = 10.0
-    con, w, fac = setup(system, Scheme(), n, rod.L / n, 2.5e-4, left, right, y0, 0 * y0)
+    con, w, fac = setup(system, Scheme(), n, rod.L / n, 2.5e-4, left, right, Start(y0, 0 * y0))
     w.y[:, :] = y0 + 1e-3 * rng.normal(size=y0.shape)
     gL, gR = left.at(np.array([2.5e-4]))[0], right.at(np.array([2.5e-4]))[0]
-    _residual_jacobian(system.F, system.dF, con, gL, gR, w)
-    _factor(con, w, fac)
+    residual_jacobian(system.F, system.dF, con, gL, gR, w)
+    factor_jacobian(con, w, fac)
     nbl = con.left_rows.shape[0]
     U, G = np.zeros((k, nf * (n + 1))), np.zeros((k, nf * (n + 1)))
     for t in range(k):
@@ -86,15 +86,24 @@ def case(n: int, k: int, rng):
     return w, fac, U, G
 
 
-#: this checkout's benchmarks: the scene is ``plectoneme_dyntorsion.contact_scene`` in both
-#: trees (one place for it), run with the package of each
-BENCH = str(ROOT / "benchmarks")
+#: this checkout's record modules: the scene is their ``plectoneme_dyntorsion.contact_scene``
+#: in both trees (one place for it), run with the package of each
+BENCH = str(ROOT / "src" / "dyntorsion" / "studies")
 
+# The tree's package first; this checkout's studies folder searched before the tree's, so
+# that the scene module is this checkout's, importing the tree's engine.  Its records
+# helper (writing, provenance) is not needed and may not exist in an older tree: a stub.
 SCENE = r"""
-import json, sys, time
-sys.path[:0] = [sys.argv[1], sys.argv[2]]
+import json, pathlib, sys, time, types
+sys.path[:0] = [sys.argv[1]]
+import dyntorsion.studies
+dyntorsion.studies.__path__.insert(0, sys.argv[2])
+stub = types.ModuleType("dyntorsion.studies.contact.records")
+stub.DATA = pathlib.Path(".")
+stub.provenance = stub.result_json = stub.run_script = stub.summary = None
+sys.modules[stub.__name__] = stub
 from dyntorsion.beyond.contact.run import run_contact_scene
-from plectoneme_dyntorsion import contact_scene
+from dyntorsion.studies.contact.plectoneme_dyntorsion import contact_scene
 t_end = float(sys.argv[3])
 t0 = time.perf_counter()
 res = run_contact_scene(contact_scene(100, 0.02), t_end).result()

@@ -16,10 +16,12 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-__all__ = ["History", "HISTORIES", "history_from_params", "Registered"]
+__all__ = ["History", "HISTORIES", "history_from_params", "Registered", "finite_value"]
 
 
-def _finite(name: str, value: Any) -> float:
+def finite_value(name: str, value: Any) -> float:
+    """``value`` as a float if it is a finite real number, else a TypeError or ValueError
+    naming the parameter ``name``."""
     if isinstance(value, bool) or not isinstance(value, int | float | np.floating | np.integer):
         raise TypeError(f"{name}={value!r} must be a real number")
     x = float(value)

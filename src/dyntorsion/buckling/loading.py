@@ -28,7 +28,7 @@ from typing import Any
 import numpy as np
 
 from ..model.ends import ENDS, EQ30, Ends, IllPosedEndsError, ends, ends_from_params
-from .history import HISTORIES, History, _finite, history_from_params
+from .history import HISTORIES, History, finite_value, history_from_params
 from .loads import (
     AXIAL_LOADS,
     DISTRIBUTED_LOADS,
@@ -80,8 +80,8 @@ class Ramp(History):
     kind = "ramp"
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "a", _finite("a", self.a))
-        object.__setattr__(self, "kappa0", _finite("kappa0", self.kappa0))
+        object.__setattr__(self, "a", finite_value("a", self.a))
+        object.__setattr__(self, "kappa0", finite_value("kappa0", self.kappa0))
 
     def __call__(self, t):
         return self.kappa0 + self.a * np.asarray(t, dtype=float)
@@ -110,7 +110,7 @@ class SmoothStart(History):
 
     def __post_init__(self) -> None:
         for name in ("a", "kappa0", "tau"):
-            object.__setattr__(self, name, _finite(name, getattr(self, name)))
+            object.__setattr__(self, name, finite_value(name, getattr(self, name)))
         if self.tau <= 0:
             raise ValueError(f"smooth start tau={self.tau} must be > 0 s")
 
@@ -138,7 +138,7 @@ class Polynomial(History):
     kind = "polynomial"
 
     def __post_init__(self) -> None:
-        c = tuple(_finite(f"coefficients[{i}]", v) for i, v in enumerate(self.coefficients))
+        c = tuple(finite_value(f"coefficients[{i}]", v) for i, v in enumerate(self.coefficients))
         if not c:
             raise ValueError("coefficients must hold at least one number")
         object.__setattr__(self, "coefficients", c)
@@ -166,7 +166,7 @@ class RampHold(History):
 
     def __post_init__(self) -> None:
         for name in ("a", "hold", "kappa0", "tau"):
-            object.__setattr__(self, name, _finite(name, getattr(self, name)))
+            object.__setattr__(self, name, finite_value(name, getattr(self, name)))
         if self.a <= 0 or self.tau <= 0:
             raise ValueError(f"ramp-hold needs a > 0 and tau > 0 (got a={self.a}, tau={self.tau})")
         if self.hold <= self.kappa0:
@@ -203,8 +203,8 @@ class Tabulated(History):
     kind = "tabulated"
 
     def __post_init__(self) -> None:
-        t = tuple(_finite(f"t[{i}]", v) for i, v in enumerate(self.t))
-        k = tuple(_finite(f"kappa[{i}]", v) for i, v in enumerate(self.kappa))
+        t = tuple(finite_value(f"t[{i}]", v) for i, v in enumerate(self.t))
+        k = tuple(finite_value(f"kappa[{i}]", v) for i, v in enumerate(self.kappa))
         if len(t) != len(k) or len(t) < 2:
             raise ValueError("t and kappa must hold the same number (>= 2) of points")
         if t[0] != 0.0 or np.any(np.diff(t) <= 0):
@@ -334,7 +334,7 @@ class Custom(History):
         if not callable(self.func):
             raise TypeError(f"func={self.func!r} must be callable")
         p = self.parameters.items() if isinstance(self.parameters, Mapping) else self.parameters
-        object.__setattr__(self, "parameters", tuple(sorted((str(k), _finite(k, v)) for k, v in p)))
+        object.__setattr__(self, "parameters", tuple(sorted((str(k), finite_value(k, v)) for k, v in p)))
 
     def __call__(self, t):
         out = np.asarray(self.func(np.asarray(t, dtype=float), **dict(self.parameters)))

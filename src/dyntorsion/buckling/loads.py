@@ -16,7 +16,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from .history import Registered, _finite
+from .history import Registered, finite_value
 
 __all__ = [
     "EndLoad",
@@ -70,8 +70,8 @@ class AxialLoad(EndLoad):
     kind = "linear"
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "T", _finite("tension T", self.T))
-        object.__setattr__(self, "T_rate", _finite("tension rate T_rate", self.T_rate))
+        object.__setattr__(self, "T", finite_value("tension T", self.T))
+        object.__setattr__(self, "T_rate", finite_value("tension rate T_rate", self.T_rate))
 
     def __call__(self, t):
         return self.T + self.T_rate * np.asarray(t, dtype=float)

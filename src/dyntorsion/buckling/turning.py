@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 from scipy.special import gamma, gammainc
 
-from .history import History, _finite
+from .history import History, finite_value
 
 __all__ = ["TurnHold"]
 
@@ -49,7 +49,7 @@ class TurnHold(History):
 
     def __post_init__(self) -> None:
         for name in ("turns", "t_turn", "tau", "pretwist"):
-            object.__setattr__(self, name, _finite(name, getattr(self, name)))
+            object.__setattr__(self, name, finite_value(name, getattr(self, name)))
         if self.turns == 0.0:
             raise ValueError("turn-hold turns=0: give a non-zero number of turns")
         if not self.t_turn > 0:

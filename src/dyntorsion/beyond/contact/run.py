@@ -1,4 +1,4 @@
-"""A buckling scene followed past self-contact (issue 33): :class:`Contact` (the law and
+"""A buckling scene followed past self-contact: :class:`Contact` (the law and
 its numbers), :class:`ContactScene` (a :class:`~dyntorsion.buckling.scene.Scene` with a
 contact, keyed by the scene's key plus ``"contact"``: scenes without contact keep their
 keys and records) and :func:`run_contact_scene`.
@@ -42,11 +42,11 @@ from ...buckling.scene import Scene
 from ...genalpha import Grid
 from ...genalpha.guard import real
 from ...model.cosserat import Cosserat
-from .between import _Between, _lagged
+from .between import Between, march_lagged
 from .budget import share
 from .damped import damped_system
 from .law import LawParams, lag_cost
-from .marching import march_implicit
+from .marching import Engine, Substeps, march_implicit
 from .plectoneme import plectoneme_turns
 
 __all__ = ["Contact", "ContactScene", "ContactRun", "PassageError", "run_contact_scene"]
@@ -274,15 +274,16 @@ def run_contact_scene(
     left, right = scene.ends.rows(system, hist, load)
     q_seed = model.external_force(scene.seed.force(s, rod.L))
     check_every = max(1, int(round(cs.contact.check / dt)))
-    between = _Between(cs, model, y0, rod.L / n, dt, q_seed, check_every, time_route)
+    between = Between(cs, model, y0, rod.L / n, dt, q_seed, check_every, time_route)
     if c.implicit:
         grid = Grid(n, rod.L, scene.dt, t_end)
-        run = march_implicit(between, system, scene.scheme, scene.newton, grid, y0, left, right,
-                             q_seed, cs.substeps(), c.min_step)  # fmt: skip
+        engine = Engine(system, scene.scheme, scene.newton)
+        run = march_implicit(between, engine, grid, y0, left, right, q_seed,
+                             Substeps(cs.substeps(), c.min_step))  # fmt: skip
         stopped = run.stopped
     else:
-        run, stopped = _lagged(between, system, scene, Grid(n, rod.L, dt, t_end), y0, left,
-                               right, q_seed, check_every)  # fmt: skip
+        run, stopped = march_lagged(between, system, scene, Grid(n, rod.L, dt, t_end), y0, left,
+                                    right, q_seed)  # fmt: skip
     between.finish(run.y, stopped == "t_end" and not c.implicit)
     h = {k: np.asarray(v) for k, v in between.hist.items()}
     work = between.work
