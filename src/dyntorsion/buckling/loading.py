@@ -334,7 +334,9 @@ class Custom(History):
         if not callable(self.func):
             raise TypeError(f"func={self.func!r} must be callable")
         p = self.parameters.items() if isinstance(self.parameters, Mapping) else self.parameters
-        object.__setattr__(self, "parameters", tuple(sorted((str(k), finite_value(k, v)) for k, v in p)))
+        object.__setattr__(
+            self, "parameters", tuple(sorted((str(k), finite_value(k, v)) for k, v in p))
+        )
 
     def __call__(self, t):
         out = np.asarray(self.func(np.asarray(t, dtype=float), **dict(self.parameters)))
