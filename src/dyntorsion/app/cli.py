@@ -1,4 +1,4 @@
-"""The command line: ``dyntorsion info``, ``buckle``, ``sweep``, ``linear``, ``fit``.
+"""The command line: ``dyntorsion info``, ``warmup``, ``buckle``, ``sweep``, ``linear``, ``fit``.
 
 ``python -m dyntorsion ...`` is the same program.
 """
@@ -26,6 +26,7 @@ from .cli_options import add_scene_options, parse_rates, scene_from
 from .cli_rtol import add_rtol_options, buckle_rtol, result_json, sweep_rtol
 from .contact_cli import add_contact_options, buckle_contact
 from .faults import EXIT_INTERRUPTED, describe
+from .warmup import add_warmup
 
 
 def _peak_twist(scene: Scene) -> float:
@@ -255,6 +256,7 @@ def parser() -> argparse.ArgumentParser:
     sub.add_parser(
         "info", help="version, the default store and why, python, numba and the arithmetic"
     ).set_defaults(func=_info)
+    add_warmup(sub)
 
     b = sub.add_parser("buckle", help="one buckling scene: print t_c and kappa3")
     b.add_argument(
