@@ -103,3 +103,13 @@ def test_kernel_modules_are_the_package_modules_that_define_kernels():
     assert "dyntorsion.genalpha.march" in names
     assert "dyntorsion.model.cosserat" in names
     assert "dyntorsion._numba" not in names and "dyntorsion.store.fingerprint" not in names
+
+
+def test_the_warmup_command_compiles_every_declared_kernel(monkeypatch, capsys):
+    from dyntorsion.app import cli, warmup
+
+    monkeypatch.setattr(_numba, "warmup", lambda: 7)
+    args = cli.parser().parse_args(["warmup"])
+    assert args.func is warmup.warmup
+    assert cli.main(["warmup"]) == 0
+    assert "7 kernels compiled or loaded" in capsys.readouterr().out
