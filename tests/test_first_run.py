@@ -113,3 +113,21 @@ def test_the_warmup_command_compiles_every_declared_kernel(monkeypatch, capsys):
     assert args.func is warmup.warmup
     assert cli.main(["warmup"]) == 0
     assert "7 kernels compiled or loaded" in capsys.readouterr().out
+
+
+def test_a_pickled_declared_kernel_keeps_its_one_signature():
+    import pickle
+
+    kernel = _numba.jit(_triple, signature=numba.float64(numba.float64), cache=False)
+    try:
+        clone = pickle.loads(pickle.dumps(kernel))
+        assert clone(2) == 6.0
+        assert [tuple(s) for s in clone.signatures] == [(numba.float64,)]
+        with pytest.raises(TypeError):
+            clone(np.ones(2))
+    finally:
+        _numba.DEFERRED.remove(kernel)
+
+
+def _triple(x):
+    return 3.0 * x

@@ -141,6 +141,11 @@ class DeferredDispatcher(CPUDispatcher):
         self.compile_declared()
         return super().get_compile_result(sig)
 
+    def _reduce_states(self):
+        # pickled (to another process): as the eager kernel, its one signature and no other
+        self.compile_declared()
+        return super()._reduce_states()
+
 
 #: every kernel with a declared signature, in order of definition (what :func:`warmup` compiles)
 DEFERRED: list[DeferredDispatcher] = []
