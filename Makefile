@@ -40,8 +40,9 @@ $(VENV)/.docs-installed: pyproject.toml | $(PY)
 	$(PY) -m pip install --quiet -e '.[test,docs]'
 	touch $@
 
-## test: every notebook of the site at quick fidelity, then the fast test suite (what CI runs)
+## test: compile the kernels (once), every notebook of the site at quick fidelity, then the fast test suite (what CI runs)
 test: $(VENV)/.test-installed
+	$(BIN)/dyntorsion warmup
 	DYNTORSION_FIDELITY=quick $(PY) -m sphinx -E -q -W --keep-going -j auto -b html docs docs/_build/quick
 	$(PY) -m pytest -m "not slow" -q
 
@@ -74,7 +75,10 @@ data: $(VENV)/.test-installed
 	$(BIN)/dyntorsion sweep $(foreach p,$(DATA_PRESETS),--preset $(p)) --jobs $(JOBS) --no-fit --on-stale $(ON_STALE)
 	$(BIN)/dyntorsion linear $(foreach p,$(LINEAR_PRESETS),--preset $(p)) --jobs $(JOBS) --quiet --on-stale $(ON_STALE)
 	$(PY) -m dyntorsion.studies.traces --on-stale $(ON_STALE)
+	$(PY) -m dyntorsion.studies.wave_convergence --on-stale $(ON_STALE)
+	$(PY) -m dyntorsion.studies.after_onset --on-stale $(ON_STALE)
 	$(PY) -m dyntorsion.studies.consistency --jobs $(JOBS) --on-stale $(ON_STALE)
+	$(PY) -m dyntorsion.studies.scan_record --on-stale $(ON_STALE)
 
 ## site-check: open every page of the quick build (made by `make test`; built here when
 ## missing), or of SITE=docs/_build/html after `make docs`, in headless Chromium: fails on

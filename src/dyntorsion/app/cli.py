@@ -1,4 +1,4 @@
-"""The command line: ``dyntorsion info``, ``buckle``, ``sweep``, ``linear``, ``fit``.
+"""The command line: ``dyntorsion info``, ``warmup``, ``buckle``, ``sweep``, ``linear``, ``fit``.
 
 ``python -m dyntorsion ...`` is the same program.
 """
@@ -27,6 +27,7 @@ from .contact_cli import add_contact_options, buckle_contact
 from .faults import EXIT_INPUT, EXIT_INTERRUPTED, blank_value, describe
 from .info import info as _info
 from .plugins import PluginError, load_plugins, plugins_in
+from .warmup import add_warmup
 
 
 def _peak_twist(scene: Scene) -> float:
@@ -246,6 +247,7 @@ def parser() -> argparse.ArgumentParser:
     sub.add_parser(
         "info", help="version, the default store and why, python, numba and the arithmetic"
     ).set_defaults(func=_info)
+    add_warmup(sub)
 
     b = sub.add_parser("buckle", help="one buckling scene: print t_c and kappa3")
     b.add_argument(
