@@ -15,7 +15,7 @@ s = L) and the seed f (lateral force per length, complex)::
 (' = d/ds) with w = w' = 0 at s = 0 and s = L (eq 30 in the lateral
 directions).  For a uniform, frozen twist and no spin, w = W exp(lambda t) and
 lambda^2 changes sign at the static critical twist of eq (32): the static limit
-of (L1) is the equation of :func:`~dyntorsion.buckling.statics.critical_twist_numerical`.
+of (L1) is the equation of :func:`~dyntorsion.buckling.chebyshev.critical_twist_numerical`.
 
 Galerkin discretisation: w = sum_j q_j(t) phi_j(s) over the first ``modes``
 clamped-clamped beam modes phi_j (real, closed form), and (L1)

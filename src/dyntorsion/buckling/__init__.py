@@ -14,6 +14,7 @@
 * :mod:`.delay_law` -- the delay law, eqs (33)-(34), fitted to a rate sweep.
 """
 
+from .chebyshev import critical_twist_numerical
 from .delay_law import PowerLawFit, fit_power_law
 from .onset import STATUSES, Onset, check_window, classify_onset, detect_onset
 from .run import BucklingRun
@@ -21,7 +22,7 @@ from .scene import run_scene
 from .seed import Perturbation
 from .simulation import GridWarning, check_grid, simulate
 from .spec import Scene
-from .statics import M_CRI_MP, critical_moment, critical_twist, critical_twist_numerical, m_cri
+from .statics import M_CRI_MP, critical_moment, critical_twist, m_cri
 
 __all__ = [
     "M_CRI_MP",

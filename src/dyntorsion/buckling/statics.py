@@ -21,7 +21,7 @@ others:
   -phi1 - kappa q1); the end conditions make an 8 x 8 matrix that is singular at the
   critical twist;
 * Chebyshev collocation of the isotropic equation B w'''' - i M w''' - T w'' = 0
-  (:func:`critical_twist_numerical`), an eigenproblem for M.
+  (:func:`~dyntorsion.buckling.chebyshev.critical_twist_numerical`), an eigenproblem for M.
 
 End conditions (:data:`STATIC_ENDS`): ``"clamped"`` (eq 30 in statics: position and
 tangent held at both ends, the far end free to slide axially) and ``"pinned"`` (position
@@ -54,7 +54,7 @@ __all__ = [
     "critical_moment",
     "critical_twist",
     "critical_twist_transfer",
-    "critical_twist_numerical",
+    "checked_tension",
     "greenhill_clamped",
     "greenhill_pinned",
     "euler_load",
@@ -77,7 +77,11 @@ M_CRI_MP = _m_cri()
 m_cri = float(M_CRI_MP)
 
 
-def _check(rod: Rod, tension: float, ends: str) -> float:
+def checked_tension(rod: Rod, tension: float, ends: str) -> float:
+    """The axial load ``tension`` [N] as a float, after the checks every route shares:
+    ``rod`` a :class:`~dyntorsion.model.rod.Rod`, ``ends`` a name of :data:`STATIC_ENDS`,
+    ``tension`` finite and no compression at or beyond the Euler load of these ends
+    (TypeError or ValueError naming the parameter)."""
     if not isinstance(rod, Rod):
         raise TypeError(f"rod={rod!r} must be a Rod")
     _check_name(ends)
@@ -283,7 +287,7 @@ def critical_twist_transfer(rod: Rod, tension: float = 0.0, ends: str = "clamped
     simple root, a minimum without one may hold a close pair (a nearly isotropic section
     splits the isotropic double root), found as the dip of the determinant below zero
     between its neighbours; the lowest root is refined by Brent's method to 1e-15."""
-    T = _check(rod, tension, ends)
+    T = checked_tension(rod, tension, ends)
     iso = STATIC_ENDS[ends].greenhill
     guess = iso(rod.B, rod.L, T) * rod.L / rod.C  # isotropic twist with the weaker B, times L
     top = guess * 3.0 * max(rod.B1, rod.B2) / rod.B
@@ -361,7 +365,7 @@ def critical_twist(rod: Rod, tension: float = 0.0, ends: str = "clamped") -> flo
     matrix.  ``tension`` [N] is the axial load (positive = tension); ``ends`` is
     ``"clamped"`` (eq 30) or ``"pinned"`` (axial torque).  Other end sets, and
     compressions at or beyond the Euler load, raise :class:`ValueError`."""
-    T = _check(rod, tension, ends)
+    T = checked_tension(rod, tension, ends)
     if STATIC_ENDS[ends].solver is not None:
         return float(STATIC_ENDS[ends].solver(rod, T))
     if not rod.isotropic:
@@ -372,7 +376,7 @@ def critical_twist(rod: Rod, tension: float = 0.0, ends: str = "clamped") -> flo
 def critical_moment(rod: Rod, tension: float = 0.0, ends: str = "clamped") -> float:
     """M_cri [N m] of an isotropic rod: 2 pi E I1 m_cri / L (eq 31) for clamped ends without
     load, Greenhill's closed forms otherwise (see :func:`critical_twist`)."""
-    T = _check(rod, tension, ends)
+    T = checked_tension(rod, tension, ends)
     if not rod.isotropic:
         return critical_twist(rod, T, ends) * rod.C
     if not STATIC_ENDS[ends].tangent_held:
@@ -380,56 +384,3 @@ def critical_moment(rod: Rod, tension: float = 0.0, ends: str = "clamped") -> fl
     if T == 0.0 and rod.E is not None:
         return 2 * math.pi * rod.E * rod.I1 * m_cri / rod.L  # eq (31) as written
     return greenhill_clamped(rod.B1, rod.L, T)
-
-
-# ---------------------------------------------------------------- Chebyshev check
-def _cheb(n: int) -> tuple[np.ndarray, np.ndarray]:
-    """Chebyshev points on [-1, 1] (descending) and the differentiation matrix (Trefethen)."""
-    x = np.cos(np.pi * np.arange(n + 1) / n)
-    c = np.r_[2.0, np.ones(n - 1), 2.0] * (-1.0) ** np.arange(n + 1)
-    X = np.tile(x, (n + 1, 1)).T
-    dX = X - X.T
-    D = np.outer(c, 1.0 / c) / (dX + np.eye(n + 1))
-    D -= np.diag(D.sum(axis=1))
-    return x, D
-
-
-def critical_twist_numerical(
-    rod: Rod, n: int = 28, tension: float = 0.0, ends: str = "clamped"
-) -> float:
-    """Independent check of :func:`critical_twist` for isotropic rods: the smallest M at
-    which B w'''' - i M w''' - T w'' = 0 (w = x + i y the lateral displacement) has a
-    nontrivial solution, by Chebyshev collocation (a generalised eigenproblem in M).
-
-    Clamped: w = w' = 0 at both ends.  Pinned (axial torque): w = 0 and
-    i B w'' + M w' = 0 (the end moment along the fixed axis).  ``n`` + 1 points: the
-    truncation error is spectrally small by n = 20, while the round-off of the fourth
-    derivative matrix grows like n^8 eps, so the default n = 28 is near the best
-    (about 1e-11 clamped, 2e-10 pinned, relative to the closed forms)."""
-    T = _check(rod, tension, ends)
-    if not rod.isotropic:
-        raise ValueError(
-            "critical_twist_numerical covers isotropic sections (B1 = B2); for B1 != B2 "
-            "use critical_twist_transfer"
-        )
-    B = rod.B1
-    _, D = _cheb(n)
-    D = D * (-2.0 / rod.L)  # s = L (1 - x) / 2: node 0 is s = 0, node n is s = L
-    D2, D3, D4 = D @ D, D @ D @ D, D @ D @ D @ D
-    I = np.eye(n + 1)
-    A = (B * D4 - T * D2).astype(complex)
-    Bm = 1j * D3
-    rows = [0, n, 1, n - 1]  # replace two rows at each end by the boundary conditions
-    if STATIC_ENDS[ends].tangent_held:
-        bc_a = [I[0], I[n], D[0], D[n]]
-        bc_b = [0 * I[0]] * 4
-    else:
-        bc_a = [I[0], I[n], 1j * B * D2[0], 1j * B * D2[n]]
-        bc_b = [0 * I[0], 0 * I[0], -D[0], -D[n]]
-    for r, a_row, b_row in zip(rows, bc_a, bc_b, strict=True):
-        A[r] = a_row
-        Bm[r] = b_row
-    vals = scipy.linalg.eigvals(A, Bm)
-    vals = vals[np.isfinite(vals)]
-    real = vals[(np.abs(vals.imag) < 1e-6 * np.abs(vals)) & (np.abs(vals.real) > 0)]
-    return float(np.min(np.abs(real.real))) / rod.C
