@@ -119,7 +119,6 @@ bench: $(VENV)/.test-installed
 	$(PY) benchmarks/bench_scenes.py
 	OPENBLAS_NUM_THREADS=1 $(PY) benchmarks/bench_contact.py
 	$(PY) benchmarks/bench_targets.py --make-data
-	$(PY) benchmarks/floors_budget.py
 	$(PY) benchmarks/plectoneme_matched.py --print
 
 $(VENV)/.bench-installed: pyproject.toml | $(PY)
