@@ -22,7 +22,7 @@ endif
 endif
 endif
 
-.PHONY: test test-all paper docs data bench bench-matched bench-bounds bench-plateau roundoff lint clean distclean site-check release-check
+.PHONY: test test-all paper docs data data-contact bench bench-matched bench-bounds bench-plateau roundoff lint clean distclean site-check release-check
 
 $(PY):
 	$(PYTHON) -m venv $(VENV)
@@ -113,13 +113,15 @@ release-check: $(VENV)/.release-installed
 	$(BIN)/deptry src
 	bash .ci/wheel-smoke
 
-## bench: engine benchmarks (timings are printed, never asserted)
-bench: $(VENV)/.test-installed
+## bench: every file of benchmarks/ (timings printed beside a peer or a floor, never
+## asserted; PyElastica, the `bench` extra, is the peer of the last two)
+bench: $(VENV)/.bench-installed
 	$(PY) benchmarks/bench_engine.py
 	$(PY) benchmarks/bench_scenes.py
 	OPENBLAS_NUM_THREADS=1 $(PY) benchmarks/bench_contact.py
 	$(PY) benchmarks/bench_targets.py --make-data
 	$(PY) benchmarks/plectoneme_matched.py --print
+	$(PY) benchmarks/bench_pyelastica.py
 
 $(VENV)/.bench-installed: pyproject.toml | $(PY)
 	$(PY) -m pip install --quiet -e '.[test,bench]'
@@ -132,19 +134,28 @@ bench-matched: $(VENV)/.bench-installed
 	OPENBLAS_NUM_THREADS=1 $(PY) benchmarks/plectoneme_matched.py
 
 ## bench-bounds: PyElastica's plectoneme scene in dyntorsion on 400 and 500 cells with a
-## stiffer contact, against issue 33's overlap and link bounds -> data/bench/plectoneme_bounds.json
-bench-bounds: $(VENV)/.bench-installed
-	$(PY) benchmarks/plectoneme_bounds.py --jobs 2
+## stiffer contact, against the overlap and link bounds -> data/bench/plectoneme_bounds.json
+bench-bounds: $(VENV)/.test-installed
+	$(PY) -m dyntorsion.studies.contact.plectoneme_bounds --jobs $(JOBS)
 
 ## bench-plateau: slow twisting under tension on a 4 m rod into a plectoneme several turns
 ## long (the torque plateau against the two-ply theory) -> data/bench/plectoneme_plateau.json
-bench-plateau: $(VENV)/.bench-installed
-	$(PY) benchmarks/plectoneme_plateau.py
+bench-plateau: $(VENV)/.test-installed
+	$(PY) -m dyntorsion.studies.contact.plectoneme_plateau
 
 ## roundoff: runs of the contact records repeated with other arithmetic (OpenBLAS's and
 ## NumPy's own choice of kernels, a seed perturbed by 1e-10) -> data/contact/roundoff.json
-roundoff: $(VENV)/.bench-installed
-	$(PY) benchmarks/contact_roundoff.py --jobs 2
+roundoff: $(VENV)/.test-installed
+	$(PY) -m dyntorsion.studies.contact.contact_roundoff --jobs $(JOBS)
+
+## data-contact: the records past self-contact in data/contact and data/bench (hours on
+## two cores; records already complete and current are kept, a partial one is resumed);
+## bench-matched, bench-bounds, bench-plateau and roundoff make the others
+CONTACT_RECORDS := contact_convergence contact_budget contact_six_seconds fig07_continued \
+                   plectoneme_dyntorsion
+data-contact: $(VENV)/.test-installed
+	$(foreach m,$(CONTACT_RECORDS),$(PY) -m dyntorsion.studies.contact.$(m) --jobs $(JOBS) &&) true
+	$(PY) -m dyntorsion.studies.contact.plectoneme_tension
 
 clean:
 	rm -rf docs/_build docs/jupyter_execute paper/figures .pytest_cache

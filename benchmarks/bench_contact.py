@@ -15,7 +15,7 @@ Nothing is asserted.
 
 With ``--baseline COMMIT`` it also runs a whole scene past contact with the code of this
 checkout and of COMMIT (a temporary git worktree, alternating subprocesses so that both see
-the same load): PyElastica's plectoneme scene (``benchmarks/plectoneme_dyntorsion.py``'s
+the same load): PyElastica's plectoneme scene (``dyntorsion.studies.contact.plectoneme_dyntorsion``'s
 ``contact_scene``, from this checkout in both runs) on N = 100, dt = 0.02 s to t = 30 s (first contact at 8.9 s, the plectoneme forming from
 ~12 s), after one run of each that compiles its kernels, and prints the seconds per contact step, the run's wall time and its writhe at the
 end (the same to rounding in both).
@@ -86,15 +86,24 @@ def case(n: int, k: int, rng):
     return w, fac, U, G
 
 
-#: this checkout's benchmarks: the scene is ``plectoneme_dyntorsion.contact_scene`` in both
-#: trees (one place for it), run with the package of each
-BENCH = str(ROOT / "benchmarks")
+#: this checkout's record modules: the scene is their ``plectoneme_dyntorsion.contact_scene``
+#: in both trees (one place for it), run with the package of each
+BENCH = str(ROOT / "src" / "dyntorsion" / "studies")
 
+# The tree's package first; this checkout's studies folder searched before the tree's, so
+# that the scene module is this checkout's, importing the tree's engine.  Its records
+# helper (writing, provenance) is not needed and may not exist in an older tree: a stub.
 SCENE = r"""
-import json, sys, time
-sys.path[:0] = [sys.argv[1], sys.argv[2]]
+import json, pathlib, sys, time, types
+sys.path[:0] = [sys.argv[1]]
+import dyntorsion.studies
+dyntorsion.studies.__path__.insert(0, sys.argv[2])
+stub = types.ModuleType("dyntorsion.studies.contact.records")
+stub.DATA = pathlib.Path(".")
+stub.provenance = stub.result_json = stub.run_script = stub.summary = None
+sys.modules[stub.__name__] = stub
 from dyntorsion.beyond.contact.run import run_contact_scene
-from plectoneme_dyntorsion import contact_scene
+from dyntorsion.studies.contact.plectoneme_dyntorsion import contact_scene
 t_end = float(sys.argv[3])
 t0 = time.perf_counter()
 res = run_contact_scene(contact_scene(100, 0.02), t_end).result()

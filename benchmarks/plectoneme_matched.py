@@ -46,26 +46,21 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import sys
 import time
 from importlib.metadata import version
-from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
+import pyelastica_plectoneme as pe  # this script's folder, first on sys.path
+from dyntorsion.studies.contact import plectoneme_dyntorsion as dyn
+from dyntorsion.studies.contact.plectoneme_scene import DYN_DT, T_STAR
+from dyntorsion.studies.contact.records import DATA, provenance, run_missing, write
+from dyntorsion.verification import richardson
 
-import plectoneme_dyntorsion as dyn  # noqa: E402
-import pyelastica_plectoneme as pe  # noqa: E402
-from dyntorsion.verification import richardson  # noqa: E402
-from records import provenance, run_missing, write  # noqa: E402
-
-T_STAR = 20.0
 WARM = 0.2
 DYN_CELLS = (30, 40, 50, 75, 100, 150, 200)
-DYN_DT = 0.02
 PE_ELEMENTS = (50, 75, 100, 150)
 #: writhe tolerances [turns] at which the cheapest rung of each code is compared
 TOLS = (0.1, 0.05, 0.02)
-OUT = Path(__file__).resolve().parents[1] / "data" / "bench" / "plectoneme_matched.json"
+OUT = DATA / "bench" / "plectoneme_matched.json"
 ROOTS = ("dyntorsion.beyond.contact.run:run_contact_scene",)
 #: which invocation of this script made a run (set in main, inherited by the workers)
 INVOCATION = "PLECTONEME_MATCHED_INVOCATION"
@@ -169,12 +164,7 @@ def main(argv: list[str] | None = None) -> int:
         print("\n".join(table(json.loads(OUT.read_text()))))
         return 0
     os.environ[INVOCATION] = f"{os.getpid()}-{time.time():.0f}"
-    here = Path(__file__).resolve().parent
-    imports = (
-        here / "plectoneme_dyntorsion.py",
-        here / "pyelastica_plectoneme.py",
-        here / "records.py",
-    )
+    imports = (dyn.__name__, dyn.SCENE, pe.__file__, run_missing.__module__)
     code = provenance(__file__, ROOTS, imports) | {"pyelastica": version("pyelastica")}
     record = {"params": params(), "code": code, "dyntorsion": [], "pyelastica": []}
     record = run_missing(

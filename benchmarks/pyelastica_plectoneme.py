@@ -39,19 +39,26 @@ from pathlib import Path
 
 import numpy as np
 
-TURNS = 10
-T_TWIST = 5.0 * TURNS
-T_HOLD = 50.0
-LENGTH, RADIUS, MASS, E = 1.0, 0.025, 1.0, 1e6
-SHEAR = E / 1.5
-N_ELEM = 150
+from dyntorsion.studies.contact.plectoneme_scene import (
+    LENGTH,
+    MASS,
+    N_ELEM,
+    RADIUS,
+    SHEAR,
+    T_HOLD,
+    T_TWIST,
+    TURNS,
+    E,
+)  # fmt: skip
+from dyntorsion.studies.contact.records import DATA
+
 DT = 0.0025 * LENGTH / N_ELEM
 KICK = 1e-4
 CONTACT_K, CONTACT_NU = 1e4, 10.0
 EVERY = 0.1
 #: a partial record (``complete: false``) is written every SAVE_EVERY simulated seconds
 SAVE_EVERY = 5.0
-OUT = Path(__file__).resolve().parents[1] / "data" / "bench" / "pyelastica_plectoneme.json"
+OUT = DATA / "bench" / "pyelastica_plectoneme.json"
 
 
 def params(t_end: float) -> dict:

@@ -35,8 +35,9 @@ def _strict_floating_point():
 
 @pytest.fixture(scope="session")
 def current_record():
-    """``load(record, script)``: the committed record ``data/<record>`` written by
-    ``benchmarks/<script>``, asserted current (``why_stale`` says why not)."""
+    """``load(record, source)``: the committed record ``data/<record>`` written by the
+    module ``source`` (``dyntorsion.studies.contact.<name>``) or by ``benchmarks/<source>``,
+    asserted current (``why_stale`` says why not)."""
     import json
     from pathlib import Path
 
@@ -44,9 +45,10 @@ def current_record():
 
     root = Path(__file__).resolve().parents[1]
 
-    def load(record: str, script: str) -> dict:
+    def load(record: str, source: str) -> dict:
         rec = json.loads((root / "data" / record).read_text())
-        stale = why_stale(rec["code"], root / "benchmarks" / script)
+        where = source if source.startswith("dyntorsion.") else root / "benchmarks" / source
+        stale = why_stale(rec["code"], where)
         assert stale is None, f"data/{record}: {stale}"
         return rec
 

@@ -112,13 +112,13 @@ def test_the_lagged_route_has_no_scheme_lines():
 
 @pytest.fixture(scope="module")
 def budget_record(current_record):
-    return current_record("contact/budget.json", "contact_budget.py")
+    return current_record("contact/budget.json", "dyntorsion.studies.contact.contact_budget")
 
 
 def test_the_record_s_lines_close_with_the_midpoint_rule_and_not_with_the_trapezoidal(
     budget_record,
 ):
-    """data/contact/budget.json (benchmarks/contact_budget.py): every run went through
+    """data/contact/budget.json (``dyntorsion.studies.contact.contact_budget``): every run went through
     contact; with the midpoint rule what is left is round-off, with the paper's
     trapezoidal rule a residue of about 1-2 % of the work (measured 2.2 % and 1.1 %)."""
     runs = budget_record["runs"]
@@ -141,7 +141,9 @@ def test_every_record_s_scheme_residual_is_its_rest_over_the_work(current_record
     nodal dissipation over the work as :func:`nodal_share` counts it."""
     from dyntorsion.beyond.contact.budget import nodal_share, share
 
-    rec = current_record("contact/first_contact.json", "contact_convergence.py")
+    rec = current_record(
+        "contact/first_contact.json", "dyntorsion.studies.contact.contact_convergence"
+    )
     for p in rec["past"]:
         r = p["result"]
         assert r["energy_residual_scheme"] == -share(r["energy_scheme"], "rest")

@@ -1,4 +1,4 @@
-"""The committed record of benchmarks/contact_convergence.py (data/contact/first_contact.json,
+"""The committed record of ``dyntorsion.studies.contact.contact_convergence`` (data/contact/first_contact.json,
 issue 33 item 3): current, and saying what the "Past contact" page says of it."""
 
 from __future__ import annotations
@@ -12,7 +12,9 @@ from dyntorsion.beyond.contact.budget import share
 
 @pytest.fixture(scope="module")
 def record(current_record):
-    return current_record("contact/first_contact.json", "contact_convergence.py")
+    return current_record(
+        "contact/first_contact.json", "dyntorsion.studies.contact.contact_convergence"
+    )
 
 
 def test_the_record_is_complete(record):

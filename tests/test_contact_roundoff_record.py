@@ -1,23 +1,22 @@
 """The committed record of the contact runs repeated with other arithmetic:
-data/contact/roundoff.json (benchmarks/contact_roundoff.py), current, complete, its pinned
+data/contact/roundoff.json (``dyntorsion.studies.contact.contact_roundoff``), current, complete, its pinned
 runs the committed records bit for bit, and saying what the Past contact page says."""
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 
 import pytest
 
+from dyntorsion.store.environment import avx512
+from dyntorsion.studies.contact import contact_roundoff as CR
+
 ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT / "benchmarks"))
-import contact_roundoff as CR  # noqa: E402
-from dyntorsion.store.environment import avx512  # noqa: E402
 
 
 @pytest.fixture(scope="module")
 def record(current_record) -> dict:
-    return current_record("contact/roundoff.json", "contact_roundoff.py")
+    return current_record("contact/roundoff.json", "dyntorsion.studies.contact.contact_roundoff")
 
 
 def test_every_run_is_there_in_every_variant(record):

@@ -1,12 +1,11 @@
 """The committed record of issue 33's done-when scene on 800 cells (the paper's rod at
 a = 16 past its first contact, asked to t = 6 s): data/contact/six_seconds.json
-(benchmarks/contact_six_seconds.py), current, run as the command line runs it, and saying
+(``dyntorsion.studies.contact.contact_six_seconds``), current, run as the command line runs it, and saying
 what the Past contact page says of it."""
 
 from __future__ import annotations
 
 import json
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -19,13 +18,14 @@ ROOT = Path(__file__).resolve().parents[1]
 
 @pytest.fixture(scope="module")
 def record(current_record) -> dict:
-    return current_record("contact/six_seconds.json", "contact_six_seconds.py")
+    return current_record(
+        "contact/six_seconds.json", "dyntorsion.studies.contact.contact_six_seconds"
+    )
 
 
 @pytest.fixture(scope="module")
 def script():
-    sys.path.insert(0, str(ROOT / "benchmarks"))
-    import contact_six_seconds
+    from dyntorsion.studies.contact import contact_six_seconds
 
     return contact_six_seconds
 

@@ -1,5 +1,5 @@
 """The numerical environment a record carries (dyntorsion.store.environment) and how the
-benchmark scripts resume a record with it (benchmarks/records.py)."""
+benchmark scripts resume a record with it (``dyntorsion.studies.contact.records``)."""
 
 from __future__ import annotations
 
@@ -14,9 +14,7 @@ import pytest
 
 from dyntorsion.store import environment as E
 from dyntorsion.store import fingerprint as F
-
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
-import records  # noqa: E402
+from dyntorsion.studies.contact import records
 
 SHOW = "import json; from dyntorsion.store.environment import numerical_environment as e; print(json.dumps(e()))"
 

@@ -1,5 +1,5 @@
 """The committed record of the Fig 7 scene followed past its first contact (issue 33,
-item 4): data/contact/fig07_continued.json (benchmarks/fig07_continued.py), current, and
+item 4): data/contact/fig07_continued.json (``dyntorsion.studies.contact.fig07_continued``), current, and
 saying what the Fig 7 page says of it."""
 
 from __future__ import annotations
@@ -15,7 +15,9 @@ ROOT = Path(__file__).resolve().parents[1]
 
 @pytest.fixture(scope="module")
 def record(current_record) -> dict:
-    return current_record("contact/fig07_continued.json", "fig07_continued.py")
+    return current_record(
+        "contact/fig07_continued.json", "dyntorsion.studies.contact.fig07_continued"
+    )
 
 
 def _runs(record) -> dict[int, dict]:
@@ -23,10 +25,7 @@ def _runs(record) -> dict[int, dict]:
 
 
 def test_every_run_of_the_script_is_in_the_record(record):
-    import sys
-
-    sys.path.insert(0, str(ROOT / "benchmarks"))
-    import fig07_continued as script
+    from dyntorsion.studies.contact import fig07_continued as script
 
     assert {tuple(r) for r in record["params"]["runs"]} == {tuple(r) for r in script.RUNS}
     assert {(r["n_cells"], r["lam_t"], r["t_end"]) for r in record["runs"]} == set(

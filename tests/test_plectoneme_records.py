@@ -1,6 +1,6 @@
 """The committed records of the plectoneme scenes (issue 33, items 3 and 5):
-data/bench/plectoneme_tension.json (benchmarks/plectoneme_tension.py) and
-data/bench/dyntorsion_plectoneme.json (benchmarks/plectoneme_dyntorsion.py): current, and
+data/bench/plectoneme_tension.json (``dyntorsion.studies.contact.plectoneme_tension``) and
+data/bench/dyntorsion_plectoneme.json (``dyntorsion.studies.contact.plectoneme_dyntorsion``): current, and
 saying what the "Past contact" page says of them."""
 
 from __future__ import annotations
@@ -16,7 +16,9 @@ ROOT = Path(__file__).resolve().parents[1]
 
 @pytest.fixture(scope="module")
 def tension(current_record):
-    return current_record("bench/plectoneme_tension.json", "plectoneme_tension.py")
+    return current_record(
+        "bench/plectoneme_tension.json", "dyntorsion.studies.contact.plectoneme_tension"
+    )
 
 
 def test_the_static_critical_torque_is_bracketed_by_the_dynamic_rod(tension):
@@ -47,7 +49,9 @@ def test_the_theory_numbers_are_the_package_s(tension):
 
 @pytest.fixture(scope="module")
 def side(current_record):
-    return current_record("bench/dyntorsion_plectoneme.json", "plectoneme_dyntorsion.py")
+    return current_record(
+        "bench/dyntorsion_plectoneme.json", "dyntorsion.studies.contact.plectoneme_dyntorsion"
+    )
 
 
 def test_the_side_by_side_runs_follow_pyelastica_until_its_passage(side):
@@ -198,11 +202,13 @@ def test_the_matched_analysis_is_the_record_s_runs_extrapolated(matched):
 
 @pytest.fixture(scope="module")
 def plateau(current_record):
-    return current_record("bench/plectoneme_plateau.json", "plectoneme_plateau.py")
+    return current_record(
+        "bench/plectoneme_plateau.json", "dyntorsion.studies.contact.plectoneme_plateau"
+    )
 
 
 def test_the_longer_rod_shows_no_plateau_and_says_where_it_stops_being_trusted(plateau):
-    """The 4 m rod under 5 N turned 11 turns (benchmarks/plectoneme_plateau.py), pinned as
+    """The 4 m rod under 5 N turned 11 turns (``dyntorsion.studies.contact.plectoneme_plateau``), pinned as
     measured: the peak 1.00-1.15 times C kappa_cri(T) past the static critical rotation
     (1.067); 5 s after it the far end pulled in by more than 1.5 m (3.96 -> 1.69 m) with
     more than one plectoneme turn (1.19); while |Lk - Tw - Wr| <= 0.05 turns (to 118.5 s)
@@ -234,11 +240,13 @@ def test_the_longer_rod_shows_no_plateau_and_says_where_it_stops_being_trusted(p
 
 @pytest.fixture(scope="module")
 def bounds(current_record):
-    return current_record("bench/plectoneme_bounds.json", "plectoneme_bounds.py")
+    return current_record(
+        "bench/plectoneme_bounds.json", "dyntorsion.studies.contact.plectoneme_bounds"
+    )
 
 
 def test_a_stiffer_contact_on_a_finer_grid_meets_the_issue_s_bounds(bounds, side):
-    """PyElastica's scene with the contact 4 times stiffer (benchmarks/plectoneme_bounds.py):
+    """PyElastica's scene with the contact 4 times stiffer (``dyntorsion.studies.contact.plectoneme_bounds``):
     both runs go to 100 s without passage, overlap within 1 % of D (0.87 %, 0.84 %), energy
     residual within 0.1 % (1.2e-4, 1.5e-4); Lk - Tw - Wr falls from N = 400 to 500 at an
     observed order above 2 (0.0104 -> 0.0052 turns, order 3.1) and meets the issue's 0.01 on

@@ -311,3 +311,39 @@ def test_a_script_record_is_stale_when_its_script_or_its_code_changes(tmp_path, 
     assert F.why_stale(code, script) is None
     helper.write_text("X = 2\n")
     assert "scene.py, which bench.py imports, changed" in F.why_stale(code, script)
+
+
+def test_a_record_of_a_moved_script_follows_its_code(tmp_path, monkeypatch):
+    """A record written by a script that has since moved into the package (its sha256 in
+    ``MOVED_SCRIPTS``) is current while the module's code is what the table pins, by the
+    script's old path or by the module's name; stale when the code or the hash differs.
+    A record written by a module names it and its digest."""
+    module, roots = "dyntorsion.studies.contact.plectoneme_scene", ("dyntorsion.buckling:simulate",)
+    sha = "ab" * 32
+    monkeypatch.setitem(F.MOVED_SCRIPTS, "scene_script.py", (module, sha, F._digest(module)))
+    code = {
+        "script_sha256": sha,
+        "roots": list(roots),
+        "code_fingerprint": F.code_fingerprint(roots),
+    }
+    old_path = tmp_path / "benchmarks" / "scene_script.py"  # no longer there
+    assert F.why_stale(code, old_path) is None
+    assert F.why_stale(code, module) is None
+    assert "changed" in F.why_stale(dict(code, script_sha256="cd" * 32), module)
+    monkeypatch.setitem(F.MOVED_SCRIPTS, "scene_script.py", (module, sha, "0" * 64))
+    assert "changed" in F.why_stale(code, old_path)
+    new = F.script_provenance(module, roots, ("dyntorsion.studies.contact.records",))
+    assert new["module"] == module and "script_sha256" not in new
+    assert F.why_stale(new, module) is None
+    assert "changed" in F.why_stale(dict(new, module_digest="0" * 64), module)
+    moved = dict(new, imports_digest={"dyntorsion.studies.contact.records": "0" * 64})
+    assert "which" in F.why_stale(moved, module)
+
+
+def test_the_moved_scripts_table_pins_todays_code():
+    """Every entry of ``MOVED_SCRIPTS`` names a module or a file of the checkout whose
+    code is the digest pinned (an edit of that code must make its records stale, so the
+    entry cannot be refreshed without recomputing them)."""
+    for old, (target, sha, digest) in F.MOVED_SCRIPTS.items():
+        assert len(sha) == 64 and old.endswith(".py")
+        assert F._digest(F._where(target)) == digest, f"{old}: {target}'s code changed"

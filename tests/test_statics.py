@@ -49,7 +49,7 @@ def test_greenhill_clamped_root_solves_its_determinant(T):
 @pytest.mark.parametrize("lam", [20.0, 40.0])
 def test_greenhill_clamped_under_a_tension_of_more_than_19_tension_lengths(lam):
     """A clamped rod L sqrt(T/B) = lam long (M L/B near 2 lam > 40, beyond the scan of
-    40 B/L it once stopped at; found by benchmarks/plectoneme_plateau.py, a 5 m rod of
+    40 B/L it once stopped at; found by ``dyntorsion.studies.contact.plectoneme_plateau``, a 5 m rod of
     PyElastica's section under 5 N) has its critical moment just above Greenhill's
     infinite-rod 2 sqrt(B T)."""
     T = (lam / L) ** 2 * B

@@ -28,6 +28,8 @@ from functools import cache
 from pathlib import Path
 from typing import Any
 
+from .moved_scripts import MOVED_SCRIPTS
+
 __all__ = [
     "KIND_ROOTS",
     "register_kind",
@@ -37,6 +39,7 @@ __all__ = [
     "code_of",
     "script_provenance",
     "why_stale",
+    "MOVED_SCRIPTS",
 ]
 
 #: where the computation of each record kind starts (``module:object`` or a whole
@@ -246,43 +249,122 @@ def _sha256(path: str | os.PathLike[str]) -> str:
     return hashlib.sha256(Path(path).read_bytes()).hexdigest()
 
 
+def _is_module(source: str | os.PathLike[str]) -> bool:
+    """Whether ``source`` names a module of the package (else it is a script's path)."""
+    return (
+        isinstance(source, str) and source.startswith(PACKAGE + ".") and not source.endswith(".py")
+    )
+
+
+def _digest(source: str | os.PathLike[str]) -> str:
+    """Digest of a module of the package or of a script's file: its syntax tree with
+    docstrings, comments and imports left out (as :func:`code_fingerprint` hashes each
+    definition)."""
+    if _is_module(source):
+        return _source_digest(str(source))
+    return hashlib.sha256(ast.dump(_tree(Path(source).read_text())).encode()).hexdigest()
+
+
+def _where(target: str) -> str | Path:
+    """A :data:`MOVED_SCRIPTS` target: a module name, or a path in the checkout."""
+    from .location import checkout
+
+    return target if _is_module(target) else (checkout() or Path.cwd()) / target
+
+
 def script_provenance(
     script: str | os.PathLike[str],
     roots: tuple[str, ...],
     imports: tuple[str | os.PathLike[str], ...] = (),
 ) -> dict:
-    """The ``code`` part of a record that a script (a benchmark writing to ``data/``)
-    computes with the package's code reachable from ``roots``: the package version, the
-    script's sha256 and those of the sibling scripts it ``imports`` (by file name), the
-    roots and their :func:`code_fingerprint`, and the numerical environment
-    (:func:`dyntorsion.store.environment.numerical_environment`: a resumed record is
-    completed only in the environment it was begun in).  :func:`why_stale` reads it back;
-    the environment does not make a record stale (the same code gives the same numbers
-    to round-off in any of them)."""
+    """The ``code`` part of a record written to ``data/`` by a module of the package
+    (``script`` its name, e.g. ``"dyntorsion.studies.contact.contact_budget"``) or by a
+    script (``script`` its path), computed with the package's code reachable from
+    ``roots``.
+
+    Holds the package version; the module's digest (its code without docstrings and
+    imports, :func:`_digest`) or the script's sha256; those of the modules or sibling
+    scripts it ``imports``; the roots and their :func:`code_fingerprint`; and the numerical
+    environment (:func:`dyntorsion.store.environment.numerical_environment`: a resumed
+    record is completed only in the environment it was begun in).  :func:`why_stale`
+    reads it back; the environment does not make a record stale (the same code gives the
+    same numbers to round-off in any of them).
+    """
     from .._version import __version__
     from .environment import numerical_environment
 
-    out = {"dyntorsion": __version__, "script_sha256": _sha256(script),
-           "roots": list(roots), "code_fingerprint": code_fingerprint(tuple(roots))}  # fmt: skip
-    if imports:
-        out["imports_sha256"] = {Path(p).name: _sha256(p) for p in imports}
+    out: dict[str, Any] = {"dyntorsion": __version__}
+    if _is_module(script):
+        out["module"] = str(script)
+        out["module_digest"] = _digest(script)
+    else:
+        out["script_sha256"] = _sha256(script)
+    out["roots"] = list(roots)
+    out["code_fingerprint"] = code_fingerprint(tuple(roots))
+    files = [p for p in imports if not _is_module(p)]
+    modules = [m for m in imports if _is_module(m)]
+    if files:
+        out["imports_sha256"] = {Path(p).name: _sha256(p) for p in files}
+    if modules:
+        out["imports_digest"] = {str(m): _digest(m) for m in modules}
     out["environment"] = numerical_environment()
     return out
 
 
+def _moved_to(script: str | os.PathLike[str]) -> str | os.PathLike[str]:
+    """Where the code of ``script`` lives now: a moved script's path gives its module."""
+    if _is_module(script) or Path(script).exists() or Path(script).name not in MOVED_SCRIPTS:
+        return script
+    return _where(MOVED_SCRIPTS[Path(script).name][0])
+
+
+def _old_name(source: str | os.PathLike[str]) -> str:
+    """The file name a module had as a script (its own name for a script)."""
+    if not _is_module(source):
+        return Path(source).name
+    return next((old for old, (m, *_) in MOVED_SCRIPTS.items() if m == source), str(source))
+
+
+def _same_script(sha: str, old: str, here: Path | None) -> bool:
+    """Whether a record's ``sha`` of the script ``old`` (found ``here`` if it is beside the
+    record's script) names the code of today: the same file, or the script's last
+    version whose code is unchanged where it lives now (:data:`MOVED_SCRIPTS`)."""
+    if here is not None and here.exists() and _sha256(here) == sha:
+        return True
+    entry = MOVED_SCRIPTS.get(old)
+    if entry is None or entry[1] != sha:
+        return False
+    target = _where(entry[0])
+    return (_is_module(target) or Path(target).exists()) and _digest(target) == entry[2]
+
+
 def why_stale(code: Mapping[str, Any], script: str | os.PathLike[str]) -> str | None:
     """Why a record whose ``code`` part is :func:`script_provenance`'s is no longer what
-    ``script`` and today's package would compute (the script or a script it imports
-    edited, or code reachable from the record's roots changed), or None if it is current."""
-    name = Path(script).name
-    if "roots" not in code or "script_sha256" not in code:
+    ``script`` (a module name or a script's path; the path of a script since moved into
+    the package names its module, :data:`MOVED_SCRIPTS`) and today's package would
+    compute, or None if it is current.
+
+    Stale when the module or script, or one it imports, changed (its code: a docstring
+    edit of a module is no change), or code reachable from the record's roots changed.
+    """
+    script = _moved_to(script)
+    name = str(script) if _is_module(script) else Path(script).name
+    if "roots" not in code or not ({"script_sha256", "module_digest"} & set(code)):
         return f"the record carries no roots or script hash: rerun {name}"
-    if code["script_sha256"] != _sha256(script):
+    if "module_digest" in code:
+        if code.get("module") != script or _digest(script) != code["module_digest"]:
+            return f"{name} changed since the record was written: rerun it"
+    elif not _same_script(
+        code["script_sha256"], _old_name(script), None if _is_module(script) else Path(script)
+    ):
         return f"{name} changed since the record was written: rerun it"
     for other, sha in code.get("imports_sha256", {}).items():
-        path = Path(script).with_name(other)
-        if not path.exists() or _sha256(path) != sha:
+        here = None if _is_module(script) else Path(script).with_name(other)
+        if not _same_script(sha, other, here):
             return f"{other}, which {name} imports, changed since the record: rerun {name}"
+    for module, digest in code.get("imports_digest", {}).items():
+        if _digest(module) != digest:
+            return f"{module}, which {name} imports, changed since the record: rerun {name}"
     now = code_fingerprint(tuple(code["roots"]))
     if code.get("code_fingerprint") != now:
         return (

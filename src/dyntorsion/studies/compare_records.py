@@ -4,7 +4,7 @@ Old records (any earlier key layout) are mapped to today's :class:`~dyntorsion.b
 and looked up by today's key; their results are compared entry by entry.  Prints one line
 per preset-level summary and every scene whose numbers differ.
 
-    python benchmarks/compare_records.py 6fcb9be [--store data/scenes]
+    python -m dyntorsion.studies.compare_records 6fcb9be [--store data/scenes]
 """
 
 from __future__ import annotations
@@ -15,12 +15,12 @@ import subprocess
 import sys
 from collections import Counter
 
-from dyntorsion import Rod
-from dyntorsion import genalpha as ga
-from dyntorsion.buckling import Perturbation
-from dyntorsion.store import location as L
-from dyntorsion.store import results as R
-from dyntorsion.studies import sweep as S
+from .. import genalpha as ga
+from ..buckling import Perturbation
+from ..model.rod import Rod
+from ..store import location as L
+from ..store import results as R
+from . import sweep as S
 
 
 def old_records(commit: str, kind: str = S.KIND) -> list[dict]:

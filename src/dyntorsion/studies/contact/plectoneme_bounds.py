@@ -1,7 +1,7 @@
 """PyElastica's plectoneme scene in dyntorsion within issue 33's bounds: written to
 ``data/bench/plectoneme_bounds.json``.
 
-The scene of ``benchmarks/plectoneme_dyntorsion.py`` (imported from there: the rod, the
+The scene of :mod:`.plectoneme_dyntorsion` (imported from there: the rod, the
 turning and holding of the end, the damping, the seed, the contact's reach ``min_arc``),
 on finer grids and with the contact ``STIFFNESS_FACTOR`` times stiffer than there.  The
 side-by-side record (N <= 200, the package's default stiffness) overlaps by up to 2.2 %
@@ -14,29 +14,25 @@ the issue's checks over the whole 100 s: the largest overlap, the largest
 |Lk - Tw - Wr| (a passage of the rod through itself would have ended the run), the
 energy residual, and the writhe and plectoneme turns at the end.
 
-Run: ``python benchmarks/plectoneme_bounds.py [--jobs 2]`` (about 45 and 70 minutes of one
+Run: ``python -m dyntorsion.studies.contact.plectoneme_bounds [--jobs 2]`` (about 45 and 70 minutes of one
 core; each run's wall time is in the record).  Resumes like the other records
-(``benchmarks/records.py``).
+(:mod:`.records`).
 """
 
 from __future__ import annotations
 
 import dataclasses
-import sys
-from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-
-import plectoneme_dyntorsion as dyn  # noqa: E402
-from dyntorsion.beyond.contact.run import ContactScene  # noqa: E402
-from records import provenance, run_script, summary  # noqa: E402
+from ...beyond.contact.run import ContactScene
+from . import plectoneme_dyntorsion as dyn
+from .records import DATA, provenance, run_script, summary
 
 #: the contact stiffness of these runs against the side-by-side record's (dyn.STIFFNESS)
 STIFFNESS_FACTOR = 4.0
 #: (cells, time step [s]) of each run
 RUNS = [(500, 0.02), (400, 0.02)]
-OUT = Path(__file__).resolve().parents[1] / "data" / "bench" / "plectoneme_bounds.json"
-IMPORTS = (Path(dyn.__file__),)
+OUT = DATA / "bench" / "plectoneme_bounds.json"
+IMPORTS = (dyn.__name__, dyn.SCENE)
 
 
 def contact_scene(n: int, dt: float) -> ContactScene:
@@ -65,7 +61,7 @@ def report(row: dict) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    record = {"params": params(), "code": provenance(__file__, dyn.ROOTS, IMPORTS), "runs": []}
+    record = {"params": params(), "code": provenance(__spec__.name, dyn.ROOTS, IMPORTS), "runs": []}
     return run_script(argv, __doc__, OUT, record, RUNS, one,
                       lambda r: (r["n_cells"], r["dt"]), report)  # fmt: skip
 

@@ -10,7 +10,7 @@ the nonlinear terms of eq (7) do no work in the pairing and the lines close to t
 Newton solve.  Each run's result (the trapezoidal budget of the nodes, the scheme's lines)
 goes to ``data/contact/budget.json`` (atomically, run by run; resumed).
 
-Run: ``python benchmarks/contact_budget.py`` (about 2 minutes on one core).
+Run: ``python -m dyntorsion.studies.contact.contact_budget`` (about 2 minutes on one core).
 """
 
 from __future__ import annotations
@@ -18,23 +18,21 @@ from __future__ import annotations
 import argparse
 import json
 import math
-from pathlib import Path
 
-from dyntorsion import Rod
-from dyntorsion.app.cli_rtol import result_json
-from dyntorsion.beyond.contact.run import Contact, ContactScene, run_contact_scene
-from dyntorsion.buckling.scene import Scene
-from dyntorsion.buckling.seed import Perturbation
-from dyntorsion.buckling.turning import TurnHold
-from dyntorsion.genalpha.scheme import Scheme
-from records import provenance, run_missing
+from ...beyond.contact.run import Contact, ContactScene, run_contact_scene
+from ...buckling.scene import Scene
+from ...buckling.seed import Perturbation
+from ...buckling.turning import TurnHold
+from ...genalpha.scheme import Scheme
+from ...model.rod import Rod
+from .records import DATA, provenance, result_json, run_missing
 
 N, TURNS, T_TURN, T_END, DT = 30, 3.0, 4.0, 6.0, 0.01
 ROD = dict(E=1e6, nu=-0.25, D=0.05, L=1.0, rho=1.0 / (math.pi * 0.025**2))
 STIFFNESS, STEP = 1e7, 0.01
 RUNS = [(N, quad, visc, lam) for quad in ("midpoint", "trapezoidal") for visc in (0.0, 2.0)
         for lam in (-0.8, -1.0)]  # fmt: skip
-OUT = Path(__file__).resolve().parents[1] / "data" / "contact" / "budget.json"
+OUT = DATA / "contact" / "budget.json"
 ROOTS = ("dyntorsion.beyond.contact.run:run_contact_scene",)
 KEYS = ("stopped", "t_last", "first_contact_t", "first_self_contact_t", "energy",
         "energy_residual", "energy_scheme", "energy_residual_scheme", "wall_time")  # fmt: skip
@@ -66,7 +64,7 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--jobs", type=int, default=1, help="runs at once (processes)")
     jobs = ap.parse_args(argv).jobs
-    record = {"params": params(), "code": provenance(__file__, ROOTS), "runs": []}
+    record = {"params": params(), "code": provenance(__spec__.name, ROOTS), "runs": []}
     run_missing(OUT, record, {"runs": RUNS}, {"runs": run},
                 {"runs": lambda r: (r["n_cells"], r["quadrature"], r["viscous"], r["lam_t"])},
                 report, jobs, indent=1)  # fmt: skip

@@ -21,24 +21,19 @@ the deepest overlap, the twisting moment at s = 0; and the centreline at the tim
 resumes when the parameters, this script and the code fingerprint of
 ``run_contact_scene`` are unchanged (else it starts again).
 
-Run: ``python benchmarks/fig07_continued.py [--jobs J]``.
+Run: ``python -m dyntorsion.studies.contact.fig07_continued [--jobs J]``.
 """
 
 from __future__ import annotations
 
 import json
-import sys
-from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-
-from dyntorsion.app.cli_rtol import result_json  # noqa: E402
-from dyntorsion.beyond.contact.run import Contact, ContactScene, run_contact_scene  # noqa: E402
-from dyntorsion.buckling.scene import Scene  # noqa: E402
-from dyntorsion.genalpha.scheme import Scheme  # noqa: E402
-from records import provenance, run_script, summary  # noqa: E402
+from ...beyond.contact.run import Contact, ContactScene, run_contact_scene
+from ...buckling.scene import Scene
+from ...genalpha.scheme import Scheme
+from .records import DATA, provenance, result_json, run_script, summary
 
 A, KAPPA0 = 1.6, 0.0
 #: the scene's step away from contact [s] (the substeps near it: Contact.max_step)
@@ -48,7 +43,7 @@ RUNS = [(800, -0.8, 17.6), (1600, -0.8, 17.5)]
 #: times of the recorded centrelines [s] (the page's snapshots), positions to 0.1 um
 SHOTS = tuple(float(t) for t in np.round(np.arange(16.9, 17.6 + 1e-9, 0.05), 2))
 DIGITS = 7
-OUT = Path(__file__).resolve().parents[1] / "data" / "contact" / "fig07_continued.json"
+OUT = DATA / "contact" / "fig07_continued.json"
 ROOTS = ("dyntorsion.beyond.contact.run:run_contact_scene",)
 
 
@@ -87,7 +82,7 @@ def report(row: dict) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    record = {"params": params(), "code": provenance(__file__, ROOTS), "runs": []}
+    record = {"params": params(), "code": provenance(__spec__.name, ROOTS), "runs": []}
     return run_script(argv, __doc__, OUT, record, RUNS, one,
                       lambda r: (r["n_cells"], r["lam_t"], r["t_end"]), report)  # fmt: skip
 

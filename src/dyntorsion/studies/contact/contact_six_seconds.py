@@ -18,29 +18,27 @@ contact sites, overlap, the twisting moment at s = 0, plectoneme turns) and its 
 at ``SHOTS`` and at the end are written to ``data/contact/six_seconds.json`` as it ends
 (atomically).
 
-Run: ``python benchmarks/contact_six_seconds.py`` (about 15 min here: the rod passes
+Run: ``python -m dyntorsion.studies.contact.contact_six_seconds`` (about 15 min here: the rod passes
 through itself at 3.61 s, the Past contact page).
 """
 
 from __future__ import annotations
 
 import json
-from pathlib import Path
 
 import numpy as np
 
-from dyntorsion.app.cli_rtol import result_json
-from dyntorsion.beyond.contact.run import Contact, ContactScene, run_contact_scene
-from dyntorsion.buckling.scene import Scene
-from dyntorsion.genalpha.scheme import Scheme
-from records import provenance, run_script, summary
+from ...beyond.contact.run import Contact, ContactScene, run_contact_scene
+from ...buckling.scene import Scene
+from ...genalpha.scheme import Scheme
+from .records import DATA, provenance, result_json, run_script, summary
 
 A, KAPPA0, DT, T_END = 16.0, 10.0, 0.01, 6.0
 RUNS = [(800, -0.8)]  # N, lambda_inf
 #: times of the recorded centrelines [s] (the page's snapshots), positions to 0.1 um
 SHOTS = (3.2, 3.3, 3.5, 4.0, 4.5, 5.0, 5.5, 6.0)
 DIGITS = 7
-OUT = Path(__file__).resolve().parents[1] / "data" / "contact" / "six_seconds.json"
+OUT = DATA / "contact" / "six_seconds.json"
 ROOTS = ("dyntorsion.beyond.contact.run:run_contact_scene",)
 
 
@@ -72,7 +70,7 @@ def report(row: dict) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    record = {"params": params(), "code": provenance(__file__, ROOTS), "runs": []}
+    record = {"params": params(), "code": provenance(__spec__.name, ROOTS), "runs": []}
     return run_script(argv, __doc__, OUT, record, RUNS, run,
                       lambda r: (r["n_cells"], r["lam_t"]), report)  # fmt: skip
 

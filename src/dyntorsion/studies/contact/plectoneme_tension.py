@@ -33,7 +33,7 @@ Two parts:
   Theta_c (delayed, as above), then the jump, then the plateau.
 
 Written atomically after each part; a rerun keeps parts whose parameters, script and code
-fingerprint are unchanged.  Run: ``python benchmarks/plectoneme_tension.py``.
+fingerprint are unchanged.  Run: ``python -m dyntorsion.studies.contact.plectoneme_tension``.
 """
 
 from __future__ import annotations
@@ -41,21 +41,19 @@ from __future__ import annotations
 import json
 import math
 import time
-from pathlib import Path
 
 import numpy as np
 
-from dyntorsion import Rod
-from dyntorsion.app.cli_rtol import result_json
-from dyntorsion.beyond.contact.run import Contact, ContactScene, run_contact_scene
-from dyntorsion.beyond.ply import ply, ply_torque_leading
-from dyntorsion.buckling import simulate
-from dyntorsion.buckling.scene import Scene
-from dyntorsion.buckling.seed import Perturbation
-from dyntorsion.buckling.statics import critical_twist
-from dyntorsion.buckling.turning import TurnHold
-from dyntorsion.genalpha.scheme import Scheme
-from records import provenance, resume, write
+from ...beyond.contact.run import Contact, ContactScene, run_contact_scene
+from ...beyond.ply import ply, ply_torque_leading
+from ...buckling import simulate
+from ...buckling.scene import Scene
+from ...buckling.seed import Perturbation
+from ...buckling.statics import critical_twist
+from ...buckling.turning import TurnHold
+from ...genalpha.scheme import Scheme
+from ...model.rod import Rod
+from .records import DATA, provenance, result_json, resume, write
 
 RADIUS, E, LENGTH = 0.025, 1e6, 2.5
 TENSION = 5.0
@@ -64,7 +62,7 @@ VISCOUS, VISCOUS_MOMENT, STIFFNESS, SEED = 2.0, 0.05, 1e7, 1e-3
 F = (0.98, 0.99, 1.01, 1.02)
 T_BRACKET, T_HOLD, N_BRACKET = 30.0, 300.0, 100
 TURNS, T_TURN, T_END, TAU = 4.5, 90.0, 100.0, 1.0
-OUT = Path(__file__).resolve().parents[1] / "data" / "bench" / "plectoneme_tension.json"
+OUT = DATA / "bench" / "plectoneme_tension.json"
 ROOTS = ("dyntorsion.beyond.contact.run:run_contact_scene", "dyntorsion.buckling:simulate")
 
 
@@ -152,7 +150,7 @@ def curve() -> dict:
 
 
 def main() -> int:
-    record = {"params": params(), "code": provenance(__file__, ROOTS), "theory": theory()}
+    record = {"params": params(), "code": provenance(__spec__.name, ROOTS), "theory": theory()}
     record = resume(OUT, record, ("params", "code", "theory"))
     for name, part in (("bracket", lambda: bracket(record["theory"]["kappa_cri"])),
                        ("curve", curve)):  # fmt: skip

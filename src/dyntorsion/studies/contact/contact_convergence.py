@@ -20,7 +20,7 @@ lambda_inf = -0.8, to t = 3.3 s, and the time route at N = 800 with lambda_inf =
 -1 (how much of the energy residual is the scheme's damping).  Their whole results
 (energy budget, drifts of the centreline, cost) are kept.
 
-Run: ``python benchmarks/contact_convergence.py [--jobs J]`` (about 1.5 h on one core before the
+Run: ``python -m dyntorsion.studies.contact.contact_convergence [--jobs J]`` (about 1.5 h on one core before the
 sparse contact solve of :mod:`dyntorsion.beyond.contact.linear`).
 """
 
@@ -28,13 +28,11 @@ from __future__ import annotations
 
 import argparse
 import json
-from pathlib import Path
 
-from dyntorsion.app.cli_rtol import result_json
-from dyntorsion.beyond.contact.run import Contact, ContactScene, run_contact_scene
-from dyntorsion.buckling.scene import Scene
-from dyntorsion.genalpha.scheme import Scheme
-from records import provenance, run_missing
+from ...beyond.contact.run import Contact, ContactScene, run_contact_scene
+from ...buckling.scene import Scene
+from ...genalpha.scheme import Scheme
+from .records import DATA, provenance, result_json, run_missing
 
 A, KAPPA0, DT, T_END = 16.0, 10.0, 0.01, 3.2
 GRIDS = [(50, 2.5e-4), (100, 2.5e-4), (200, 2.5e-4), (400, 2.5e-4), (800, 2.5e-4), (400, 1.25e-4),
@@ -42,7 +40,7 @@ GRIDS = [(50, 2.5e-4), (100, 2.5e-4), (200, 2.5e-4), (400, 2.5e-4), (800, 2.5e-4
 PAST = [(200, -1.0, 3.3, "time"), (400, -0.8, 3.45, "time"), (400, -0.8, 3.3, "time"),
         (400, -0.8, 3.3, "anchored"), (800, -0.8, 3.3, "time"), (800, -0.8, 3.3, "anchored"),
         (800, -0.9, 3.3, "time"), (800, -1.0, 3.3, "time")]  # N, lambda_inf, end time, route  # fmt: skip
-OUT = Path(__file__).resolve().parents[1] / "data" / "contact" / "first_contact.json"
+OUT = DATA / "contact" / "first_contact.json"
 KEYS = ("first_contact_t", "first_self_contact_t", "first_fixture_contact_t", "max_link_gap_turns", "max_cell_bend", "energy_residual",
         "max_penetration_over_D", "stopped", "wall_time")  # fmt: skip
 
@@ -86,7 +84,7 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--jobs", type=int, default=1, help="runs at once (processes)")
     jobs = ap.parse_args(argv).jobs
-    record = {"params": params(), "code": provenance(__file__, ROOTS), "runs": [], "past": []}
+    record = {"params": params(), "code": provenance(__spec__.name, ROOTS), "runs": [], "past": []}
     run_missing(OUT, record, {"runs": GRIDS, "past": PAST}, {"runs": grid_run, "past": past_run},
                 {"runs": lambda r: (r["n_cells"], r["max_step"]),
                  "past": lambda r: (r["n_cells"], r["lam_t"], r["t_end"], r["route"])},

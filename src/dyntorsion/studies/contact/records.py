@@ -1,5 +1,5 @@
-"""What the benchmark scripts that write a record to ``data/`` share: the record's
-provenance (:func:`dyntorsion.store.fingerprint.script_provenance`: package version, the
+"""What the modules that write a record to ``data/contact`` and ``data/bench`` share: the
+record's provenance (:func:`dyntorsion.store.fingerprint.script_provenance`: package version, the
 script's sha256, the roots of the code that computed it and their fingerprint, which
 :func:`~dyntorsion.store.fingerprint.why_stale` checks on the pages and in the tests), the
 atomic write (a temporary file in the same folder renamed over the record, so a run cut
@@ -17,11 +17,23 @@ from collections.abc import Callable, Mapping, Sequence
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 
-from dyntorsion.store.fingerprint import script_provenance
+from ...store.fingerprint import script_provenance, why_stale
+from ...store.location import checkout
+from ...store.results import json_ready
 
-__all__ = ["provenance", "write", "resume", "run_missing", "run_script", "summary"]
+__all__ = ["DATA", "provenance", "result_json", "write", "resume", "run_missing", "run_script",
+           "summary"]  # fmt: skip
+
+#: the checkout's ``data/`` folder (the working directory's for an installed package)
+DATA = (checkout() or Path.cwd()) / "data"
 
 provenance = script_provenance
+
+
+def result_json(result: dict) -> str:
+    """One run's result as one JSON object (numbers as numbers, NaN and infinities as
+    null, numpy scalars as Python ones), as ``dyntorsion buckle --json`` prints it."""
+    return json.dumps(json_ready(result), allow_nan=False)
 
 
 def write(out: Path, record: dict, indent: int | None = None) -> None:
@@ -55,9 +67,14 @@ def resume(out: Path, record: dict, keys: Sequence[str] = ("params", "code")) ->
 
 
 def _same(key: str, old, new, environment: bool = True) -> bool:
-    """Whether the ``key`` parts of two records agree (module docstring)."""
+    """Whether the ``key`` parts of two records agree (module docstring); a record written
+    by a script since moved into the package agrees with its module while
+    :func:`~dyntorsion.store.fingerprint.why_stale` finds it current."""
     if key != "code" or not isinstance(old, dict) or not isinstance(new, dict):
         return old == new
+    if "script_sha256" in old and "module" in new:
+        same_env = not environment or old.get("environment") in (None, new.get("environment"))
+        return same_env and why_stale(old, new["module"]) is None
     if environment and "environment" in old:
         return old == new
     return {k: v for k, v in old.items() if k != "environment"} == {

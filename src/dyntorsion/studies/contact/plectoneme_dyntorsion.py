@@ -2,7 +2,7 @@
 side-by-side comparison, written to ``data/bench/dyntorsion_plectoneme.json``.
 
 The scene of ``benchmarks/pyelastica_plectoneme.py`` (its constants are imported from
-there: one place for them), in dyntorsion's terms:
+:mod:`.plectoneme_scene`: one place for them), in dyntorsion's terms:
 
 * rod: L = 1 m, radius 0.025 m, E = 1e6 Pa, G = E / 1.5 (Poisson's ratio -0.25), mass
   1 kg (rho = 1 / (pi r^2 L)).  dyntorsion's rod is a Kirchhoff rod (inextensible,
@@ -48,7 +48,7 @@ Grids (``RUNS``, the longest first): N = 200 and 150 at dt = 0.02 s, N = 100 at 
 under-resolved at 37.6 s (a cell of 0.27 D bent by 1 rad) and N = 50 at 29.5 s (measured
 2026-11-26).
 
-Run: ``python benchmarks/plectoneme_dyntorsion.py [--jobs J]`` (an hour or more a run on one
+Run: ``python -m dyntorsion.studies.contact.plectoneme_dyntorsion [--jobs J]`` (an hour or more a run on one
 core; each run's wall time is in the record).
 """
 
@@ -56,21 +56,16 @@ from __future__ import annotations
 
 import json
 import math
-import sys
-from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-
-from dyntorsion import Rod  # noqa: E402
-from dyntorsion.app.cli_rtol import result_json  # noqa: E402
-from dyntorsion.beyond.contact.plectoneme import plectoneme_turns  # noqa: E402
-from dyntorsion.beyond.contact.run import Contact, ContactScene, run_contact_scene  # noqa: E402
-from dyntorsion.buckling.scene import Scene  # noqa: E402
-from dyntorsion.buckling.seed import Perturbation  # noqa: E402
-from dyntorsion.buckling.turning import TurnHold  # noqa: E402
-from dyntorsion.genalpha.scheme import Scheme  # noqa: E402
-from pyelastica_plectoneme import LENGTH, MASS, N_ELEM, RADIUS, SHEAR, T_HOLD, T_TWIST, TURNS, E  # noqa: E402
-from records import provenance, run_script, summary  # noqa: E402
+from ...beyond.contact.plectoneme import plectoneme_turns
+from ...beyond.contact.run import Contact, ContactScene, run_contact_scene
+from ...buckling.scene import Scene
+from ...buckling.seed import Perturbation
+from ...buckling.turning import TurnHold
+from ...genalpha.scheme import Scheme
+from ...model.rod import Rod
+from .plectoneme_scene import LENGTH, MASS, N_ELEM, RADIUS, SHEAR, T_HOLD, T_TWIST, TURNS, E
+from .records import DATA, provenance, result_json, run_script, summary
 
 T_END = T_TWIST + T_HOLD
 TAU = 0.1
@@ -87,8 +82,10 @@ LAM_T = -0.8
 CHECK = 0.1
 #: (cells, time step [s]) of each run
 RUNS = [(200, 0.02), (150, 0.02), (100, 0.01), (100, 0.02)]
-OUT = Path(__file__).resolve().parents[1] / "data" / "bench" / "dyntorsion_plectoneme.json"
+OUT = DATA / "bench" / "dyntorsion_plectoneme.json"
 ROOTS = ("dyntorsion.beyond.contact.run:run_contact_scene",)
+#: the module of the scene's numbers, which the records of this scene name among their imports
+SCENE = "dyntorsion.studies.contact.plectoneme_scene"
 
 
 def rod() -> Rod:
@@ -138,7 +135,7 @@ def report(row: dict) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    record = {"params": params(), "code": provenance(__file__, ROOTS), "runs": []}
+    record = {"params": params(), "code": provenance(__spec__.name, ROOTS, (SCENE,)), "runs": []}
     return run_script(argv, __doc__, OUT, record, RUNS, one,
                       lambda r: (r["n_cells"], r["dt"]), report)  # fmt: skip
 

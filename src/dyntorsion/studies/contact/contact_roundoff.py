@@ -26,10 +26,10 @@ import sys
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
-from dyntorsion.store.environment import cpu_has_avx512, numpy_avx512_groups
+from ...store.environment import cpu_has_avx512, numpy_avx512_groups
+from .records import DATA, provenance, result_json, write
 
-HERE = Path(__file__).resolve().parent
-OUT = HERE.parent / "data" / "contact" / "roundoff.json"
+OUT = DATA / "contact" / "roundoff.json"
 ROOTS = ("dyntorsion.beyond.contact.run:run_contact_scene",)
 SEED_FACTOR = 1.0 + 1e-10
 
@@ -59,15 +59,14 @@ def variants() -> dict[str, dict[str, str]]:
 
 def one(name: str) -> dict:
     """Run ``name`` in this process (its arithmetic set by the environment)."""
-    sys.path.insert(0, str(HERE))
     factor = float(os.environ.get("ROUNDOFF_SEED_FACTOR", "1"))
     if factor != 1.0:
-        from dyntorsion.buckling.seed import Perturbation
+        from ...buckling.seed import Perturbation
 
         force = Perturbation.force
         Perturbation.force = lambda self, *a, **k: factor * force(self, *a, **k)
-    from dyntorsion.beyond.contact.run import run_contact_scene
-    from dyntorsion.store.environment import numerical_environment
+    from ...beyond.contact.run import run_contact_scene
+    from ...store.environment import numerical_environment
 
     if name == "a16-first-contact-N400":
         import contact_convergence as cc
@@ -78,8 +77,9 @@ def one(name: str) -> dict:
 
         res = cc.past_run(400 if name.endswith("400") else 800, -0.8, 3.3, "time")["result"]
     elif name == "pyelastica-scene-N100-20s":
-        import plectoneme_dyntorsion as dyn
         import plectoneme_matched as pm
+
+        from . import plectoneme_dyntorsion as dyn
 
         res = run_contact_scene(dyn.contact_scene(100, pm.DYN_DT), pm.T_STAR).result()
     elif name == "fig07-continued-N800":
@@ -88,7 +88,6 @@ def one(name: str) -> dict:
         res = run_contact_scene(f7.contact_scene(800, -0.8, 17.6)).result()
     else:
         raise ValueError(f"run name={name!r}; allowed: {[r[0] for r in RUNS]}")
-    from dyntorsion.app.cli_rtol import result_json
 
     res = json.loads(result_json(res))
     return {"environment": numerical_environment(),
@@ -103,7 +102,7 @@ def _child(name: str, variant: str, env: dict[str, str]) -> dict:
         else:
             full.pop(k, None)
     full["OPENBLAS_NUM_THREADS"] = "1"
-    done = subprocess.run([sys.executable, __file__, "--one", name], env=full,
+    done = subprocess.run([sys.executable, "-m", __spec__.name, "--one", name], env=full,
                           capture_output=True, text=True)  # fmt: skip
     if done.returncode != 0:
         raise RuntimeError(f"{name} ({variant}) failed:\n{done.stderr[-2000:]}")
@@ -126,7 +125,7 @@ def spread(rows: list[dict]) -> dict:
     return out
 
 
-def committed(name: str, data: Path = HERE.parent / "data") -> dict:
+def committed(name: str, data: Path = DATA) -> dict:
     """The numbers of run ``name`` in the committed record it comes from (:data:`RUNS`):
     those of :data:`QUANTITIES` the record keeps."""
 
@@ -158,7 +157,7 @@ def committed(name: str, data: Path = HERE.parent / "data") -> dict:
     return {q: res[q] for q in (*QUANTITIES, "stopped") if q in res}
 
 
-def reproduced(rows: list[dict], data: Path = HERE.parent / "data") -> dict[str, list[str]]:
+def reproduced(rows: list[dict], data: Path = DATA) -> dict[str, list[str]]:
     """For each run, the numbers of its ``pinned`` variant that differ from the committed
     record's (an empty list: the record repeated bit for bit)."""
     out = {}
@@ -177,15 +176,12 @@ def main(argv: list[str] | None = None) -> int:
     if args.one:
         print(json.dumps(one(args.one)))
         return 0
-    sys.path.insert(0, str(HERE))
-    from records import provenance, write
-
     var = variants()
-    imports = tuple(HERE / f for f in ("contact_convergence.py", "plectoneme_dyntorsion.py",
-                                       "plectoneme_matched.py", "fig07_continued.py"))  # fmt: skip
+    imports = tuple(f"{__package__}.{m}" for m in ("contact_convergence", "plectoneme_dyntorsion",
+                                                   "plectoneme_scene", "fig07_continued"))  # fmt: skip
     record = {"params": {"runs": [list(r) for r in RUNS], "variants": var,
                          "seed_factor": SEED_FACTOR, "quantities": list(QUANTITIES)},
-              "code": provenance(__file__, ROOTS, imports), "runs": []}  # fmt: skip
+              "code": provenance(__spec__.name, ROOTS, imports), "runs": []}  # fmt: skip
     jobs = [(name, v) for name, _ in RUNS for v in var]
     jobs.sort(key=lambda j: ("fig07" not in j[0], "N800" not in j[0]))  # the longest first
     with ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:

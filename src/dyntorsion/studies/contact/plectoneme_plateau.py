@@ -1,5 +1,5 @@
 """Does the torque of a longer ply level off at the two-ply plateau? (issue 33, item 3): slow
-twisting under tension on a rod 1.6 times as long as ``benchmarks/plectoneme_tension.py``'s,
+twisting under tension on a rod 1.6 times as long as :mod:`.plectoneme_tension`'s,
 written to ``data/bench/plectoneme_plateau.json``.
 
 The section, material, tension, damping, contact and seed of ``plectoneme_tension.py``
@@ -27,27 +27,23 @@ overlap, the far end's axial position and the plectoneme turns of the centreline
 Written atomically when the run ends; a record whose parameters, script, the script it
 imports or code fingerprint differ from today's is stale.
 
-Run: ``python benchmarks/plectoneme_plateau.py`` (about 7 min on this machine, 26 min beside two other runs).
+Run: ``python -m dyntorsion.studies.contact.plectoneme_plateau`` (about 7 min on this machine, 26 min beside two other runs).
 """
 
 from __future__ import annotations
 
-import sys
 import time
-from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-
-import plectoneme_tension as pt  # noqa: E402
-from dyntorsion import Rod  # noqa: E402
-from records import provenance, resume, write  # noqa: E402
+from ...model.rod import Rod
+from . import plectoneme_tension as pt
+from .records import DATA, provenance, resume, write
 
 LENGTH = 4.0
 N_CELLS = 160
 TURNS, T_TURN, T_END = 11.0, 220.0, 230.0
-OUT = Path(__file__).resolve().parents[1] / "data" / "bench" / "plectoneme_plateau.json"
+OUT = DATA / "bench" / "plectoneme_plateau.json"
 ROOTS = ("dyntorsion.beyond.contact.run:run_contact_scene",)
-IMPORTS = (Path(pt.__file__),)
+IMPORTS = (pt.__name__,)
 
 
 def rod() -> Rod:
@@ -72,7 +68,7 @@ def curve() -> dict:
 
 
 def main() -> int:
-    record = {"params": params(), "code": provenance(__file__, ROOTS, IMPORTS),
+    record = {"params": params(), "code": provenance(__spec__.name, ROOTS, IMPORTS),
               "theory": theory()}  # fmt: skip
     record = resume(OUT, record, ("params", "code", "theory"))
     if "curve" not in record:
