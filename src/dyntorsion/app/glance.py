@@ -75,7 +75,7 @@ FIGURE_PAGE: dict[str, str] = {
 #: of eq (32) would overstate it)
 KAPPA_CRI_FREE_DECIMALS = 2
 
-#: the variant of the consistency map's closest cell (issue 19) and its page
+#: the variant of the consistency map's closest cell and its page
 CLOSEST = "closest map cell"
 CLOSEST_PAGE = "sections/consistency.md"
 

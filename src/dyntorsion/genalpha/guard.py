@@ -136,10 +136,9 @@ def check_memory(n_steps: int, n_nodes: int, nf: int, n_recorded: int, n_snapsho
     )
 
 
-#: wall time of one step per node and field [s]: measured about 1.1 us per node for the
-#: 12-field rod at N = 100-800 (a step costs 106 us at N = 100, `make bench`,
-#: 2026-11-23), i.e. about 0.09 us per node and field; taken 3 times larger so that
-#: step control, retries and a slower machine stay under the estimate
+#: wall time of one step per node and field [s]: about three times the cost `make bench`
+#: measures (``benchmarks/bench_engine.py``, the Benchmarks page), so that step control,
+#: retries and a slower machine stay under the estimate
 SECONDS_PER_NODE_FIELD_STEP = 0.3e-6
 #: runs estimated longer than this are announced before they start [s]
 ANNOUNCE_AFTER_S = 30.0

@@ -42,7 +42,7 @@ def old_records(commit: str, kind: str = S.KIND) -> list[dict]:
 
 
 def scene_of(p: dict) -> S.Scene:
-    """Today's Scene for an old (pre-issue-14) params dict or a current one."""
+    """Today's Scene for an old params dict (an earlier key layout) or a current one."""
     if "history" in p:
         return S.Scene.from_params(p)
     model = p.get("model", {})

@@ -1,11 +1,11 @@
 """Accuracy on demand: the onset of a buckling scene to a requested relative tolerance,
-with an a-posteriori error estimate (beyond the paper; issue 34, item 1).
+with an a-posteriori error estimate (beyond the paper).
 
-The onset time t_c of section 6 has no exact solution; its discretisation error is
-estimated from the scene run on a sequence of grids that halve ``ds`` and ``dt``
+**Rungs.**  The onset time t_c of section 6 has no exact solution; its discretisation
+error is estimated from the scene run on a sequence of grids that halve ``ds`` and ``dt``
 together, the rungs of the fidelity ladder (:data:`~dyntorsion.studies.fidelity.PRESETS`,
 ``buckling``: N = 50 ``quick``, 100 ``standard``, 200 ``fine``) below a coarse rung at
-N = 25 and above ``fine`` at N = 400:
+N = 25 and above ``fine`` at N = 400 (:data:`CELLS`):
 
     N_k = 25 * 2^k,    dt_k = dt_0 / 2^k,        k = 0, 1, 2, ...
 
@@ -18,65 +18,39 @@ and load's static kappa_cri (eqs 33-34) sets the time instead, and where neither
 scaled to the rod).  Every rung runs until the first peak of ``|u3(L)|`` (the same onset,
 without the whip) with the scene's own Newton options.
 
-The error of the value v_K on the finest rung run so far is estimated from the last
-two differences d_k = v_k - v_{k-1} of the sequence (three rungs):
+**Grid estimate.**  With d_k = v_k - v_{k-1} the differences of a value v (t_c or
+kappa3) on successive rungs, the error of v_K on the finest rung run so far is
 
-    e_K = max(abs(d_K), abs(d_{K-1})).
+    e_K = max(abs(d_K), abs(d_{K-1}))                     (the sample reading),
+    e_K = (2/3) max(abs(d_K), abs(d_{K-1}) / 4)           (the continuous reading).
 
-A scheme of order p >= 1 whose error e_k = C h_k^p shrinks by 2^p per rung has
-e_K = abs(d_K) / (2^p - 1) <= abs(d_K): the first term covers it.  The onset, however, is read
-off a line fit to a sampled trace, and its convergence is irregular ("Accuracy and
-cost" page): two neighbouring rungs may agree by coincidence, or the error may even
-grow from one rung to the next, so the second term keeps the estimate from trusting
-one small difference.  The price is paid where the convergence is clean: for an exact
-second-order sequence the estimate is 12 times the error (abs(d_{K-1}) = 4 abs(d_K) = 12 e_K).
-Rules that trust the last difference when the sequence looks regular fail on measured
-sequences (the Fig 10 scene at a = 1.09 with the 1e-17 N/m seed, read off the samples:
-18.2875, 18.3589, 18.3622, 18.3551 s on N = 25..200, against 18.3556 s on N = 400).  Two
-rungs give no estimate: the coarse and ``quick`` rungs agree by coincidence too often (the
-Fig 8 scene, 14.7483 s and 14.7480 s, against 14.6939 s on the accuracy ladder's finest
-grid, N = 400, dt = 0.00125 s, all read off the samples).  Nor is the ``standard`` rung
-vouched for, although three rungs give it an estimate: on the first
-hold-out set (computed with this estimate fixed beforehand) a few of its estimates
-missed, every one of them a jump between N = 100 and 200 that the rungs below did not
-foreshadow ("Accuracy and cost" page), so the cheapest rung that can be vouched for is
-``fine``, whose estimate sees the step from N = 100 (checked on a second hold-out set
-computed after that change).
+The sample reading (the window rule on the samples) converges irregularly -- its t_c
+moves by a fraction of a step whenever a sample enters or leaves the window -- so its
+estimate trusts no single difference: for a scheme of order p >= 1 the first term
+bounds the error abs(d_K) / (2^p - 1), the second keeps two rungs that agree by
+coincidence from making it small.  The continuous reading
+(:func:`~dyntorsion.buckling.onset.continuous_window_fit`, the records'
+``t_c_continuous``) converges at the scheme's second order: Richardson's abs(d_K) / 3
+with a safety factor of 2, the previous difference scaled by 2^2 for the same reason.
+An estimate needs three rungs, and only rungs from ``fine`` on are vouched for.
 
-Both estimates add the solver's share.  Below a seed of about 1e-13 N/m the lateral
-perturbation the Newton solve leaves at its tolerance (default 1e-10, scaled correction)
-acts as a seed as well, and the onset moves with the tolerance by more than the grid
-moves it (the Fig 10 scene at a = 1.09, seed 1e-17 N/m, N = 200, read in continuous
-time: 18.3577, 18.3546, 18.3521, 18.3505, 18.3497 s at tol = 1e-9 .. 1e-13; no rung
-difference sees that).  So :func:`onset_within` runs the ``standard`` rung once more
-with the tolerance times :data:`SOLVER_FACTOR` (:func:`solver_check`) and adds the change of the onset to the
-estimate.  On the hold-out sets the change is at most 0.2 % of the rungs' estimate for
-seeds of 1e-10 N/m and up (and the other rods and the loads, at the stated seed), and up
-to 30 times it at 1e-17 N/m (continuous reading, ``fine`` rung).  (Fixed after a
-look at the first three hold-out sets against their N = 800 references at the scenes'
-own tolerance, before any reference converged in the solver, :data:`REFERENCE_TOL`, was
-computed; the fourth set was defined and computed after it.)
+**Solver share.**  Below a seed of about 1e-13 N/m the lateral perturbation the Newton
+solve leaves at its tolerance acts as a seed as well, and moves the onset by more than
+the grid does.  :func:`onset_within` therefore runs the ``standard`` rung once more with
+the Newton tolerance times :data:`SOLVER_FACTOR` (:func:`solver_check`) and adds the
+change of the onset to the estimate.
 
-The sample rule's irregular convergence is its own: it takes the samples whose values
-lie in its window, so its t_c moves by a fraction of a step whenever a sample enters or
-leaves.  The same window read in continuous time (``reading="continuous"``,
-:func:`~dyntorsion.buckling.onset.continuous_window_fit`, the records' ``t_c_continuous``)
-converges as the scheme does, at second order, so its estimate can trust the order:
-
-    e_K = (2/3) max(abs(d_K), abs(d_{K-1}) / 4),
-
-Richardson's abs(d_K) / 3 for the scheme's second order with a safety factor of 2, the
-previous difference scaled by 2^2 keeping two rungs that agree by coincidence from making
-it small.  (Fixed before the N = 800 references of the continuous reading were computed,
-after a look at both hold-out sets against their N = 400 rung; "Accuracy and cost" page.)
-
-:func:`onset_within` runs the rungs from the coarsest and returns the onset of the first
-rung (from ``fine`` on) whose estimated errors of t_c and kappa3 are within
-``rtol`` of their values, read in continuous time unless told otherwise
-(:data:`DEFAULT_READING`).  How honest the estimate is -- how often it covers the
-error against a converged reference, and by how much it overstates it -- is measured
-over hold-out sets of scenes by :mod:`~dyntorsion.studies.tolerance_study` and
-:mod:`~dyntorsion.studies.solver_share`.
+**Contract.**  :func:`onset_within` runs the rungs from the coarsest and returns the
+onset of the first rung (from ``fine`` on) whose estimated errors of t_c and kappa3 are
+within ``rtol`` of their values, read in continuous time unless told otherwise
+(:data:`DEFAULT_READING`), as a :class:`ToleranceOnset` (``met`` False, with the finest
+rung's values and a note, when no rung up to ``max_cells`` meets ``rtol``); ``rtol``
+outside (0, 1] or an unknown reading raise ValueError naming the parameter.  How often the
+estimate covers the true error against a converged reference, and by how much it
+overstates it, is measured over hold-out sets of scenes by
+:mod:`~dyntorsion.studies.tolerance_study` and :mod:`~dyntorsion.studies.solver_share`,
+and shown, with the measured sequences that fixed these rules, on the "Accuracy and
+cost" page.
 """
 
 from __future__ import annotations

@@ -1,14 +1,13 @@
 """How honest is the error estimate of :func:`~dyntorsion.studies.tolerance.onset_within`?
-(beyond the paper; issue 34, item 1)
+(beyond the paper)
 
 Over the scenes of each hold-out set (:data:`~dyntorsion.studies.presets.HOLDOUTS`: Fig 10
 rates at three seeds, another rod, a tension and a compression), each run on the rungs
 N = 25..400 (presets ``tolerance-holdout`` and ``tolerance-holdout-2``, cached in
 ``data/``), the estimated errors of t_c and kappa3 on the ``standard``, ``fine`` and
 N = 400 rungs are set against their true errors, the differences from the reference, the
-onset one rung further, N = 800 (preset ``tolerance-reference``; until 2026-11-26 the
-reference was the N = 400 rung, checked against N = 800 on three scenes of the first set
-only: too coarse to judge how far an estimate overstates, :func:`reference_error`).  An estimate
+onset one rung further, N = 800 (preset ``tolerance-reference``; the N = 400 rung is too coarse a reference to judge how
+far an estimate overstates, :func:`reference_error`).  An estimate
 *covers* when the true error is at most the estimate; its *overstatement* is the
 estimate over the true error.  The chooser itself runs at a tolerance on the same
 records.  The first set was computed with the estimate and the chooser fixed

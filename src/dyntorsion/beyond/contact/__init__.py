@@ -1,4 +1,4 @@
-"""Past self-contact (issue 33): the rod followed through the first self-contact.
+"""Past self-contact: the rod followed through the first self-contact.
 
 * :mod:`.centreline` -- r(s, t) and the frame reconstructed at each step from the 12 fields
   (spatial route of section 4), and the drift of that reconstruction;
@@ -7,7 +7,7 @@
   apart than a few diameters along it, with an O(N log N) broad phase;
 * :mod:`.run` -- :class:`~.run.Contact`, :class:`~.run.ContactScene` and
   :func:`~.run.run_contact_scene`: a buckling scene run past contact;
-* :mod:`.checks` -- the issue's bounds and a run's verdict on them, each reading beside
+* :mod:`.checks` -- the bounds and a run's verdict on them, each reading beside
   its bound.
 
 A scene without contact computes none of this: :func:`dyntorsion.buckling.simulate` and

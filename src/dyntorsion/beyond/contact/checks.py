@@ -1,7 +1,7 @@
-"""The checks issue 33 asks of a run past contact, each with its bound, in one place.
+"""The checks of a run past contact, each with its bound, in one place.
 
 A run past contact (:func:`~.run.run_contact_scene`, ``dyntorsion buckle --contact``) is
-within the issue's bounds when
+within the bounds when
 
 * it reached its end time (no passage of the rod through itself, no failed Newton solve,
   not stopped as under-resolved);
@@ -25,7 +25,7 @@ from typing import Any
 
 __all__ = ["BOUNDS", "Check", "checks", "verdict"]
 
-#: the issue's bounds: the deepest overlap over D, |Lk - Tw - Wr| [turns], and what the
+#: the bounds: the deepest overlap over D, |Lk - Tw - Wr| [turns], and what the
 #: scheme's energy lines leave over the work done
 BOUNDS: dict[str, float] = {"overlap": 0.01, "link": 0.01, "energy": 0.01}
 #: the fields of a run's result the checks read

@@ -1,5 +1,5 @@
 """The contact law of :mod:`.law` inside the implicit step: force and Jacobian at the new
-level as functions of the new velocity fields (issue 33, item 2).
+level as functions of the new velocity fields.
 
 **Positions at the new level.**  The contact acts on the time route of the centreline
 (:mod:`.centreline`, :class:`dyntorsion.shapes.FrameTracker`, eqs 17-21): frames and
@@ -72,8 +72,7 @@ the banded Jacobian (with the trapezoidal quadrature, into its nodal dF, where t
 the cells' weights of q_a; with the midpoint one, as three rank-one terms each) and the
 rank-one terms to :mod:`.linear` (the Woodbury identity on the banded factors for few,
 a sparse LU of the whole matrix for many): one column a pair instead of six for each of
-its (up to four) nodes.  Measured (a = 16, N = 400 to 3.45 s, cProfile): the banded
-solves of the columns were 37 % of the run with six columns a node.
+its (up to four) nodes.
 """
 
 from __future__ import annotations

@@ -1,21 +1,25 @@
 """The linear solve of one Newton iteration of a contact step (:mod:`.implicit`): the
-banded Jacobian J of the step (:mod:`dyntorsion.genalpha.abd`, the frames' blocks of (C5)
-included) plus the pairs' rank-one terms U^T G (k rows each: (C5)),
+banded Jacobian J of the step (:mod:`dyntorsion.genalpha.abd`, the frames' 3 x 3 blocks
+of (C5) included) plus the rank-one terms U^T G of (C5), one row of ``U`` and ``G`` for
+each pair pressing (and, with the midpoint quadrature of the load, three for each node in
+contact: its frame's 3 x 3 block, kept out of the band):
 
-    (J + U^T G) dx = -r.
+    (J + U^T G) dx = -r,        U, G of shape (k, rows of the scaled residual).
 
 **Woodbury** on the banded factors of J (few terms):
 
     (J + U^T G)^{-1} b = z - Z (I + G Z)^{-1} G z,    z = J^{-1} b,  Z = J^{-1} U^T,
 
-one banded solve per term and a dense solve of the terms' number: cost ~ k N + k^3 for k
-terms.  **Sparse LU** of J + U^T G assembled whole (SuperLU, :func:`scipy.sparse.linalg.
+one banded solve per term and a dense solve of size k: cost ~ k N + k^3 for k terms on N
+cells.  **Sparse LU** of J + U^T G assembled whole (SuperLU, :func:`scipy.sparse.linalg.
 splu`, column order COLAMD, partial pivoting), for many terms: its cost hardly grows with
 k, each term touching only the rows and unknowns of the four nodes of its pair.  Both
-solve the same system; from :func:`sparse_from` terms on the second is taken.  Measured
-(``benchmarks/bench_contact.py``, 2026-11-26, medians, one BLAS thread, six columns a node
-then): the two cost the same at about 190, 300 and 400 columns for N = 100, 400 and 800;
-the sparse LU is 2-4 times faster at 768 columns and 4-20 times slower at 12-48.
+solve the same system (to round-off); from :func:`sparse_from` terms on the second is
+taken, near where the two cost the same (``benchmarks/bench_contact.py`` measures both
+against the number of terms at N = 100, 400 and 800; the Benchmarks page).
+
+All solves write ``out``, of the shape of the residual ``r`` (nodes x fields, scaled as
+:func:`dyntorsion.genalpha.discrete.solve_neg` expects), and return nothing.
 """
 
 from __future__ import annotations

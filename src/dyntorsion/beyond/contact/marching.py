@@ -94,9 +94,8 @@ class _Address(WrapperAddressProtocol):
     """A compiled function handed to the kernels by its address, looked up once.
 
     A dispatcher passed from Python as a first-class function argument is looked up in
-    LLVM's tables at every call (about 40 us each for F and dF); the march makes several
-    such calls a step, which was about a tenth of a contact run (a = 16, N = 400,
-    cProfile).  Numba's wrapper address protocol takes the address instead; the same
+    LLVM's tables at every call, and the march makes several such calls a step.  Numba's
+    wrapper address protocol takes the address instead; the same
     compiled code runs, so the numbers are the same."""
 
     def __init__(self, dispatcher, sig):

@@ -10,7 +10,7 @@ the nonlinear terms of eq (7) do no work in the pairing and the lines close to t
 Newton solve.  Each run's result (the trapezoidal budget of the nodes, the scheme's lines)
 goes to ``data/contact/budget.json`` (atomically, run by run; resumed).
 
-Run: ``python -m dyntorsion.studies.contact.contact_budget`` (about 2 minutes on one core).
+Run: ``python -m dyntorsion.studies.contact.contact_budget`` or ``make data-contact``.
 """
 
 from __future__ import annotations

@@ -1,5 +1,5 @@
 """Convergence in N and in the step of the first self-contact of the paper's a = 16 scene
-past the onset (issue 33, item 3), with the implicit contact of
+past the onset, with the implicit contact of
 :mod:`dyntorsion.beyond.contact`: each grid run from rest to ``T_END`` (just past the
 first contact), and the time of first contact, Lk - Tw - Wr at its largest, the largest
 bending within a cell and the energy residual written to

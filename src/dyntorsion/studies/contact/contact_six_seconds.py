@@ -1,6 +1,6 @@
-"""Issue 33's done-when scene followed toward t = 6 s on a grid that resolves it: the paper's
+"""The contact checks' scene followed toward t = 6 s on a grid that resolves it: the paper's
 a = 16 rod (kappa0 = 10 1/m) past its first self-contact, through loop formation and
-intertwining, with every check of the issue read at the end (penetration, passage, link =
+intertwining, with every contact check read at the end (penetration, passage, link =
 twist + writhe, the energy budget as the scheme keeps it).
 
 The done-when asks for this run at ``--fidelity quick`` (50 cells, each 20 D long): it
@@ -10,16 +10,15 @@ the scene's step 0.01 s cut to the contact's longest substep 2.5e-4 s near conta
 as ``dyntorsion buckle --a 16 --kappa0 10 --contact --t-end 6 --n-cells 800 --dt 0.01
 --lam-t -0.8 --json`` runs it.  Not at the paper's lambda_inf = -1: without damping in time
 the step control cuts the steps near contact far shorter (to 3.3 s, 4267 contact steps
-against 495, first_contact.json); begun here beside the run at -0.8, it had reached
-3.36 s after 75 min, where -0.8 had ended at 3.61 s in 15 min, and it was stopped.
+against 495, first_contact.json), many times the cost of the run at -0.8.
 
 The run's whole result, its histories at the checks (every 0.01 s: link, twist, writhe,
 contact sites, overlap, the twisting moment at s = 0, plectoneme turns) and its centreline
 at ``SHOTS`` and at the end are written to ``data/contact/six_seconds.json`` as it ends
 (atomically).
 
-Run: ``python -m dyntorsion.studies.contact.contact_six_seconds`` (about 15 min here: the rod passes
-through itself at 3.61 s, the Past contact page).
+Run: ``python -m dyntorsion.studies.contact.contact_six_seconds`` or ``make data-contact`` (the rod passes
+through itself at 3.61 s, the Past contact page; the run's wall time is in the record).
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""The paper's Fig 7 scene followed past its first contact (issue 33, item 4), written to
+"""The paper's Fig 7 scene followed past its first contact, written to
 ``data/contact/fig07_continued.json``.
 
 The scene of Fig 7 and Fig 8 (Table 1 rod, kappa0 = 0, a = 1.6 rad/(m s), the stated seed,
@@ -7,13 +7,12 @@ Contact`, defaults: a penalty of 5e7 N/m^2 with damping ratio 0.5 on the time ro
 centreline, the axis beyond both clamps an obstacle, substeps of at most 2.5e-4 s near
 contact) from rest, on the grids ``RUNS``: lambda_inf = -0.8 in time, as the runs past
 contact at a = 16 (``data/contact/first_contact.json``: at the paper's -1 a third of the
-contact steps' Newton solves failed there), N = 800 and 1600 (N = 200 and 400 failed the
-checks within a second of the first contact: measured 2026-11-26, a = 1.6 to 18-22 s, N =
-200 with a Newton failure at 17.91 s, N = 400 passed through itself at 18.17 s, both with
-the time route of the centreline turned by 2-5 rad from the shape of the 12 fields),
+contact steps' Newton solves failed there), N = 800 and 1600 (coarser grids fail the checks
+within a second of the first contact: a Newton failure, the rod passing through itself,
+the time route of the centreline turned away from the shape of the 12 fields),
 N = 800 to 17.6 s and N = 1600 to 17.5 s, so that what the page shows can be told from the
-grid's error.  (N = 800 to 18.5 s had not finished after an hour of one core, 2026-11-26:
-the contact steps grow dearer as the loop coils; each run's wall time is in the record.)
+grid's error.  The contact steps grow dearer as the loop coils; each run's wall time is in
+the record.
 
 Every run records, every ``Contact.check`` = 0.01 s: link, twist and writhe, contact sites,
 the deepest overlap, the twisting moment at s = 0; and the centreline at the times ``SHOTS``

@@ -1,4 +1,5 @@
-"""PyElastica's plectoneme scene in dyntorsion within issue 33's bounds: written to
+"""PyElastica's plectoneme scene in dyntorsion within the bounds of the contact checks
+(:mod:`dyntorsion.beyond.contact.checks`): written to
 ``data/bench/plectoneme_bounds.json``.
 
 The scene of :mod:`.plectoneme_dyntorsion` (imported from there: the rod, the
@@ -6,16 +7,16 @@ turning and holding of the end, the damping, the seed, the contact's reach ``min
 on finer grids and with the contact ``STIFFNESS_FACTOR`` times stiffer than there.  The
 side-by-side record (N <= 200, the package's default stiffness) overlaps by up to 2.2 %
 of the diameter and its Lk - Tw - Wr drifts by 0.042 turns on 200 cells, against the
-issue's bounds of 1 % D and 0.01 turns.  The drift falls at about second order in N
+bounds of the contact checks, 1 % D and 0.01 turns.  The drift falls at about second order in N
 (0.088 turns on 150 cells, 0.042 on 200); the overlap falls as the contact stiffens
 (a penalty law's overlap goes as the load over the stiffness).  So the runs here:
 N = 400 and 500 cells at dt = 0.02 s, the contact 4 times stiffer.  Each run reports
-the issue's checks over the whole 100 s: the largest overlap, the largest
+the contact checks over the whole 100 s: the largest overlap, the largest
 |Lk - Tw - Wr| (a passage of the rod through itself would have ended the run), the
 energy residual, and the writhe and plectoneme turns at the end.
 
-Run: ``python -m dyntorsion.studies.contact.plectoneme_bounds [--jobs 2]`` (about 45 and 70 minutes of one
-core; each run's wall time is in the record).  Resumes like the other records
+Run: ``python -m dyntorsion.studies.contact.plectoneme_bounds [--jobs 2]`` or ``make bench-bounds``
+(each run's wall time is in the record).  Resumes like the other records
 (:mod:`.records`).
 """
 

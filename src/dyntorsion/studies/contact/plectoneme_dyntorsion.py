@@ -1,4 +1,4 @@
-"""PyElastica's plectoneme scene in dyntorsion (issue 33, item 5): dyntorsion's half of the
+"""PyElastica's plectoneme scene in dyntorsion: dyntorsion's half of the
 side-by-side comparison, written to ``data/bench/dyntorsion_plectoneme.json``.
 
 The scene of ``benchmarks/pyelastica_plectoneme.py`` (its constants are imported from
@@ -44,12 +44,11 @@ run; a rerun resumes when the parameters, this script and the code fingerprint o
 ``run_contact_scene`` are unchanged (else it starts again).
 
 Grids (``RUNS``, the longest first): N = 200 and 150 at dt = 0.02 s, N = 100 at 0.01 and
-0.02 s.  Coarser grids do not hold the plectoneme's tip: N = 75, dt = 0.02 s stopped as
-under-resolved at 37.6 s (a cell of 0.27 D bent by 1 rad) and N = 50 at 29.5 s (measured
-2026-11-26).
+0.02 s.  Coarser grids (N = 75 and 50) do not hold the plectoneme's tip: they stop as
+under-resolved (a cell bent by more than a radian) before the twist is complete.
 
-Run: ``python -m dyntorsion.studies.contact.plectoneme_dyntorsion [--jobs J]`` (an hour or more a run on one
-core; each run's wall time is in the record).
+Run: ``python -m dyntorsion.studies.contact.plectoneme_dyntorsion [--jobs J]`` or ``make data-contact``
+(each run's wall time is in the record).
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Does the torque of a longer ply level off at the two-ply plateau? (issue 33, item 3): slow
+"""Does the torque of a longer ply level off at the two-ply plateau?: slow
 twisting under tension on a rod 1.6 times as long as :mod:`.plectoneme_tension`'s,
 written to ``data/bench/plectoneme_plateau.json``.
 
@@ -18,7 +18,7 @@ theory's torque.
 Measured (this record; the Past contact page reads its numbers from it): no.  The jump
 itself puts most of the rod into the ply, and while Lk - Tw - Wr stays within 0.05 turns
 the torque rises well above the two-ply plateau as the ply grows.  Past that the ply uses
-up the rod, the 0.5 D cells do not hold the compact ply and the run fails the issue's
+up the rod, the 0.5 D cells do not hold the compact ply and the run fails the contact
 checks (Lk - Tw - Wr and the energy residual).  A plateau needs a rod many tension lengths
 longer.
 
@@ -27,7 +27,8 @@ overlap, the far end's axial position and the plectoneme turns of the centreline
 Written atomically when the run ends; a record whose parameters, script, the script it
 imports or code fingerprint differ from today's is stale.
 
-Run: ``python -m dyntorsion.studies.contact.plectoneme_plateau`` (about 7 min on this machine, 26 min beside two other runs).
+Run: ``python -m dyntorsion.studies.contact.plectoneme_plateau`` or ``make bench-plateau``
+(the run's wall time is in the record).
 """
 
 from __future__ import annotations

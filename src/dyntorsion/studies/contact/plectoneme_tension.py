@@ -1,4 +1,4 @@
-"""Slow twisting under tension (issue 33, item 3, the quasi-static limit): the peak torque
+"""Slow twisting under tension (the quasi-static limit): the peak torque
 against the package's static critical twist, the torque plateau of the plectoneme against
 the two-ply theory (:mod:`dyntorsion.beyond.ply`), and the torque-rotation curve with its
 jump; written to ``data/bench/plectoneme_tension.json``.
