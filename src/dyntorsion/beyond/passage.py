@@ -1,4 +1,6 @@
-"""The compiled slow passage of eq (L2) (see :mod:`dyntorsion.beyond.linear_stability`).
+"""Compiled integration of the linear slow passage, eq (L2), over the prebuckling state.
+
+The compiled slow passage of eq (L2) (see :mod:`dyntorsion.beyond.linear_stability`).
 
 The coefficients of (L2) depend on time only through the prebuckling state, and
 that state is a short sum of separable terms (:class:`~.linear_stability.Prebuckling`)::

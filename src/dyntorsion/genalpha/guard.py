@@ -1,4 +1,6 @@
-"""Checks made before a run starts: the time grid (dt, t_end, snapshots, check
+"""Checks before a run starts: the time grid and the memory and time it will need.
+
+Checks made before a run starts: the time grid (dt, t_end, snapshots, check
 interval) and the memory the run will allocate, so bad input is refused with its name
 and allowed range before anything is computed."""
 

@@ -1,4 +1,6 @@
-"""Long steps while the solution is quiet (:class:`~.scheme.LongSteps`): the first
+"""Long time steps over the quiet start of a run (``Scheme(long_steps=LongSteps(...))``).
+
+Long steps while the solution is quiet (:class:`~.scheme.LongSteps`): the first
 phase of a run, in steps of H = factor * dt on the levels t_0 + i H of the fixed
 grid, each one step of eq (10)-(12) with the coefficients of H
 (:func:`~.discrete.constants`), until the gate of the phase closes (a gauge limit or

@@ -1,4 +1,6 @@
-"""The parts of a run that :func:`~.integrate.integrate` takes besides the model, the
+"""A run's inputs besides the model: its grid, sources, output and stop tests.
+
+The parts of a run that :func:`~.integrate.integrate` takes besides the model, the
 initial state and the boundary rows of eq (7): where and when (:class:`Grid`), the source
 q(s, t) of eq (7) (:class:`Sources`), what is kept (:class:`Output`) and when a run may end
 before t_end (:class:`Stops`).  With the :class:`~.scheme.Scheme` (eq 13 and its options)

@@ -1,4 +1,6 @@
-"""What a run records and keeps, where its chunks of steps end, and its sources:
+"""Bookkeeping of a run around the compiled march: records, chunk ends and sources.
+
+What a run records and keeps, where its chunks of steps end, and its sources:
 the bookkeeping of :func:`~.integrate.integrate` around the compiled march."""
 
 from __future__ import annotations

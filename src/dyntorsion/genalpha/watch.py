@@ -1,4 +1,6 @@
-"""Compiled stop tests: ``integrate(stops=Stops(test=CompiledStop(...)))``.
+"""Stop tests compiled into the march, consulted at every time level.
+
+Compiled stop tests: ``integrate(stops=Stops(test=CompiledStop(...)))``.
 
 A stop test that must be consulted at every level (the self-contact of a whipping
 rod) costs, written in Python, a return from the compiled march at every level.  A

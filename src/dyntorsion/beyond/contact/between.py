@@ -1,4 +1,6 @@
-"""What a run past contact does between steps (:mod:`.run`): the rebuilt shape, the
+"""Work between the steps of a run past contact: shape, overlap, energy and topology.
+
+What a run past contact does between steps (:mod:`.run`): the rebuilt shape, the
 contact law on it for the reported overlap, the energy budget and the topology (the
 engine's stop test on the lagged route, consulted after every step by :mod:`.marching` on
 the implicit one), and the lagged route through the engine."""
