@@ -16,12 +16,11 @@ whatever its rate, and loosens the Newton tolerance to ``tol`` (the onset does n
 see the difference: "Accuracy and cost" page).  The estimate only sets the step: an
 estimate 30 % off costs 30 % more or fewer steps, never a different onset rule.
 
-The defaults (384 steps, tol 1e-6) are measured on the 16 rates of Fig 10: every
-t_c within 0.11 % of the standard grid's (at most +0.112 %), whose own error against the converged onset
-is up to 0.52 % (the paced sweep's up to 0.48 %; "Accuracy and cost" page,
-``benchmarks/bench_paced.py``), in a fraction of the steps and of the time (that page counts
-both).  They are a measured choice for the Table 1 rod, not a guarantee for
-another: check a new rod or load against the standard grid on a few rates first.
+The defaults (384 steps, tol 1e-6) were chosen on the 16 rates of Fig 10 by comparing
+the paced onsets with the standard grid's and with the converged onset, in a fraction of
+the steps and of the time (the "Accuracy and cost" page shows the comparison).  They
+are a choice for the Table 1 rod, not a guarantee for another: check a new rod or load
+against the standard grid on a few rates first.
 """
 
 from __future__ import annotations
