@@ -35,7 +35,7 @@ MAX_IMAGES = 2_000_000
 MAX_DUHAMEL_WORK = 2e8
 
 
-def _positive_number(name: str, value) -> float:
+def positive_number(name: str, value) -> float:
     try:
         v = float(value)
     except (TypeError, ValueError):
@@ -50,14 +50,14 @@ def _positive_number(name: str, value) -> float:
 SCALES, MAGNITUDE = (1e-60, 1e60), 1e100
 
 
-def _scale(name: str, value) -> float:
-    v = _positive_number(name, value)
+def checked_scale(name: str, value) -> float:
+    v = positive_number(name, value)
     if not SCALES[0] <= v <= SCALES[1]:
         raise ValueError(f"{name}={value!r} must lie in the range [{SCALES[0]:g}, {SCALES[1]:g}]")
     return v
 
 
-def _finite(name: str, value) -> float:
+def finite_number(name: str, value) -> float:
     try:
         v = float(value)
     except (TypeError, ValueError):
@@ -67,7 +67,7 @@ def _finite(name: str, value) -> float:
     return v
 
 
-def _grid(s, t, L):
+def checked_grid(s, t, L):
     try:
         s = np.asarray(s, dtype=float)
         t = np.asarray(t, dtype=float)
@@ -84,7 +84,7 @@ def _grid(s, t, L):
     return np.broadcast_arrays(s, t)
 
 
-def _terms(
+def term_count(
     terms,
     tol,
     needed: Callable[[float], int],
@@ -96,7 +96,7 @@ def _terms(
         if not (isinstance(terms, int | np.integer) and terms >= 1):
             raise ValueError(f"terms={terms!r} must be an integer >= 1")
         return int(terms)
-    tol = default_tol if tol is None else _positive_number("tol", tol)
+    tol = default_tol if tol is None else positive_number("tol", tol)
     n = needed(tol)
     if n > max_terms:
         raise ValueError(
@@ -111,7 +111,7 @@ def sqrt_lambda(n, L: float):
     return (2 * np.asarray(n) - 1) * np.pi / (2 * L)
 
 
-def _chunked_sum(n_terms: int, term: Callable[[np.ndarray], np.ndarray], shape) -> np.ndarray:
+def chunked_sum(n_terms: int, term: Callable[[np.ndarray], np.ndarray], shape) -> np.ndarray:
     """sum_{n=1}^{n_terms} term(n) with n along a leading axis, in chunks (bounded memory)."""
     out = np.zeros(shape)
     size = max(1, int(np.prod(shape)))
@@ -124,14 +124,14 @@ def _chunked_sum(n_terms: int, term: Callable[[np.ndarray], np.ndarray], shape) 
     return out
 
 
-def _mp_budget(units: float, unit_s: float, digits: int, budget, lower: str) -> None:
+def check_mp_budget(units: float, unit_s: float, digits: int, budget, lower: str) -> None:
     """Refuse (:class:`BudgetError`) an mpmath evaluation whose estimated time exceeds
     ``budget`` seconds (None: no limit)."""
     if not (isinstance(digits, int | np.integer) and digits >= 5):
         raise ValueError(f"digits={digits!r} must be an integer >= 5")
     if budget is None:
         return
-    budget = _positive_number("budget", budget)
+    budget = positive_number("budget", budget)
     estimate = units * unit_s * max(1.0, digits / DEFAULT_DIGITS)
     if estimate > budget:
         raise BudgetError(
@@ -140,7 +140,7 @@ def _mp_budget(units: float, unit_s: float, digits: int, budget, lower: str) -> 
         )
 
 
-def _mp_array(fn, s, t, digits: int) -> np.ndarray:
+def mp_array(fn, s, t, digits: int) -> np.ndarray:
     with mpmath.workdps(digits):
         vals = [
             fn(mpmath.mpf(float(si)), mpmath.mpf(float(ti)))

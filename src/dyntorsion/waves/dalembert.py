@@ -7,7 +7,7 @@ import mpmath
 import numpy as np
 
 from ..genalpha.guard import BudgetError
-from .checks import DEFAULT_DIGITS, MAX_IMAGES, _finite, _grid, _scale
+from .checks import DEFAULT_DIGITS, MAX_IMAGES, checked_grid, checked_scale, finite_number
 from .transitions import DEFAULT_TRANSITION, Transition
 
 
@@ -81,9 +81,9 @@ def linear_loading_dalembert(
     """Closed form of eq (23) with h = kappa0 + a t: kappa0 plus travelling ramps a (t - d/c)_+
     with reflections (same sign at the free end s = L, opposite at the driven end s = 0).
     ``precise=True``: in mpmath at ``digits`` digits (object array of mpf)."""
-    c, L = _scale("c", c), _scale("L", L)
-    a, kappa0 = _finite("a", a), _finite("kappa0", kappa0)
-    s, t = _grid(s, t, L)
+    c, L = checked_scale("c", c), checked_scale("L", L)
+    a, kappa0 = finite_number("a", a), finite_number("kappa0", kappa0)
+    s, t = checked_grid(s, t, L)
     if precise:
         ma = mpmath.mpf(a)
         parts = _images_mp(s, t, c, L, lambda tau: ma * max(tau, 0), True, digits, period=4 * L / c)
@@ -99,9 +99,9 @@ def instant_release_dalembert(
 ):
     """Closed form of eq (26): kappa0 minus travelling steps; on a front the mean of both sides.
     ``precise=True``: in mpmath at ``digits`` digits (object array of mpf)."""
-    c, L = _scale("c", c), _scale("L", L)
-    kappa0 = _finite("kappa0", kappa0)
-    s, t = _grid(s, t, L)
+    c, L = checked_scale("c", c), checked_scale("L", L)
+    kappa0 = finite_number("kappa0", kappa0)
+    s, t = checked_grid(s, t, L)
     if precise:
         mk = mpmath.mpf(kappa0)
 
@@ -129,8 +129,8 @@ def smooth_release_dalembert(
 ):
     """Closed form of eq (28): kappa0 + travelling copies of kappa0 (f(rate t) - 1).
     ``precise=True``: in mpmath at ``digits`` digits (object array of mpf)."""
-    c, L = _scale("c", c), _scale("L", L)
-    s, t = _grid(s, t, L)
+    c, L = checked_scale("c", c), checked_scale("L", L)
+    s, t = checked_grid(s, t, L)
     if precise:
         mk, mr = mpmath.mpf(kappa0), mpmath.mpf(rate)
         parts = _images_mp(s, t, c, L, lambda tau: mk * (f.mp(mr * tau) - 1), False, digits)

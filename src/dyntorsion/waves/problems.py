@@ -11,7 +11,7 @@ import numpy as np
 
 from ..genalpha import Boundary, Grid, Newton, Output, Run, Scheme, System, integrate
 from ..model.rod import Rod
-from .checks import _positive_number
+from .checks import positive_number
 from .dalembert import instant_release_dalembert, linear_loading_dalembert, smooth_release_dalembert
 from .series import instant_release_exact, linear_loading_exact, smooth_release_exact
 from .torsion import Torsion
@@ -132,7 +132,7 @@ def solve(
     times_arr = np.atleast_1d(np.asarray(times, dtype=float))
     if times_arr.size == 0 or np.any(times_arr <= 0) or not np.all(np.isfinite(times_arr)):
         raise ValueError(f"times={times!r} must be finite and > 0")
-    dt = _positive_number("dt", dt)
+    dt = positive_number("dt", dt)
     steps = times_arr / dt
     if np.any(np.abs(steps - np.round(steps)) > 1e-9 * np.maximum(1.0, steps)):
         raise ValueError(f"times={times!r} must be multiples of dt={dt}")

@@ -20,15 +20,15 @@ from .checks import (
     MAX_TERMS_DUHAMEL,
     MP_BUDGET_S,
     MP_TERM_S,
-    _chunked_sum,
-    _finite,
-    _grid,
-    _mp_array,
-    _mp_budget,
-    _positive_number,
-    _scale,
-    _terms,
+    check_mp_budget,
+    checked_grid,
+    checked_scale,
+    chunked_sum,
+    finite_number,
+    mp_array,
+    positive_number,
     sqrt_lambda,
+    term_count,
 )
 from .transitions import DEFAULT_TRANSITION, Transition
 
@@ -78,9 +78,9 @@ def linear_loading_exact(
     function (:mod:`.reference`; ``tol`` is then met to working precision); it refuses (:class:`BudgetError`) work estimated above ``budget``
     seconds.
     """
-    c, L = _scale("c", c), _scale("L", L)
-    a, kappa0 = _finite("a", a), _finite("kappa0", kappa0)
-    s, t = _grid(s, t, L)
+    c, L = checked_scale("c", c), checked_scale("L", L)
+    a, kappa0 = finite_number("a", a), finite_number("kappa0", kappa0)
+    s, t = checked_grid(s, t, L)
 
     def needed(tol):
         uniform = math.ceil((4 * abs(a) * L / (c * math.pi**2 * tol) + 1) / 2)
@@ -97,9 +97,9 @@ def linear_loading_exact(
 
     if precise and terms is None:  # the whole series, summed in closed form
         if tol is not None:
-            _positive_number("tol", tol)
-        _mp_budget(4 * s.size, reference.POLYLOG_S, digits, budget, "pass fewer points")
-        return _mp_array(
+            positive_number("tol", tol)
+        check_mp_budget(4 * s.size, reference.POLYLOG_S, digits, budget, "pass fewer points")
+        return mp_array(
             lambda si, ti: reference.linear_loading_sum(
                 si, ti, a=mpmath.mpf(a), kappa0=mpmath.mpf(kappa0), c=mpmath.mpf(c), L=mpmath.mpf(L)
             ),
@@ -107,9 +107,9 @@ def linear_loading_exact(
             t,
             digits,
         )
-    n_terms = _terms(terms, tol, needed)
+    n_terms = term_count(terms, tol, needed)
     if precise:
-        _mp_budget(n_terms * s.size, MP_TERM_S, digits, budget, "pass fewer points or terms")
+        check_mp_budget(n_terms * s.size, MP_TERM_S, digits, budget, "pass fewer points or terms")
 
         def point(si, ti):
             mL, mc, ma = mpmath.mpf(L), mpmath.mpf(c), mpmath.mpf(a)
@@ -119,13 +119,13 @@ def linear_loading_exact(
                 total -= 2 * ma / (mL * mc * k**2) * mpmath.sin(mc * k * ti) * mpmath.sin(k * si)
             return total
 
-        return _mp_array(point, s, t, digits)
+        return mp_array(point, s, t, digits)
 
     def term(n):
         k = sqrt_lambda(n, L)
         return 2 * a / (L * c * k**2) * np.sin(c * k * t) * np.sin(k * s)
 
-    return kappa0 + a * t - _chunked_sum(n_terms, term, s.shape)
+    return kappa0 + a * t - chunked_sum(n_terms, term, s.shape)
 
 
 # ======================================================== eq (27): instantaneous release
@@ -168,9 +168,9 @@ def instant_release_exact(
     ``precise=True`` without ``terms``: the whole series in mpmath, in closed form by
     Legendre's chi function (:mod:`.reference`); on a front the mean of both sides.
     """
-    c, L = _scale("c", c), _scale("L", L)
-    kappa0 = _finite("kappa0", kappa0)
-    s, t = _grid(s, t, L)
+    c, L = checked_scale("c", c), checked_scale("L", L)
+    kappa0 = finite_number("kappa0", kappa0)
+    s, t = checked_grid(s, t, L)
 
     def needed(tol):
         # bound(N) = C / (2N + 1): C = 3 bound(1)
@@ -181,9 +181,9 @@ def instant_release_exact(
 
     if precise and terms is None:  # the whole series, summed in closed form
         if tol is not None:
-            _positive_number("tol", tol)
-        _mp_budget(s.size, reference.POLYLOG_S, digits, budget, "pass fewer points")
-        return _mp_array(
+            positive_number("tol", tol)
+        check_mp_budget(s.size, reference.POLYLOG_S, digits, budget, "pass fewer points")
+        return mp_array(
             lambda si, ti: reference.instant_release_sum(
                 si, ti, kappa0=mpmath.mpf(kappa0), c=mpmath.mpf(c), L=mpmath.mpf(L)
             ),
@@ -191,9 +191,9 @@ def instant_release_exact(
             t,
             digits,
         )
-    n_terms = _terms(terms, tol, needed)
+    n_terms = term_count(terms, tol, needed)
     if precise:
-        _mp_budget(n_terms * s.size, MP_TERM_S, digits, budget, "pass fewer points or terms")
+        check_mp_budget(n_terms * s.size, MP_TERM_S, digits, budget, "pass fewer points or terms")
 
         def point(si, ti):
             mL, mc = mpmath.mpf(L), mpmath.mpf(c)
@@ -210,14 +210,14 @@ def instant_release_exact(
                 )
             return total
 
-        return _mp_array(point, s, t, digits)
+        return mp_array(point, s, t, digits)
 
     def term(n):
         k = sqrt_lambda(n, L)
         sign = 1.0 - 2.0 * ((n - 1) % 2)
         return 2 * kappa0 / (L * k) * sign * np.cos(c * k * t) * np.cos(k * s)
 
-    return _chunked_sum(n_terms, term, s.shape)
+    return chunked_sum(n_terms, term, s.shape)
 
 
 # ============================================================ eq (29): smooth release
@@ -325,12 +325,12 @@ def smooth_release_exact(
     first ``terms`` terms.  It refuses (:class:`BudgetError`) work estimated above
     ``budget`` seconds, saying what would make it possible.
     """
-    c, L = _scale("c", c), _scale("L", L)
-    rate = _scale("rate", rate)
-    kappa0 = _finite("kappa0", kappa0)
+    c, L = checked_scale("c", c), checked_scale("L", L)
+    rate = checked_scale("rate", rate)
+    kappa0 = finite_number("kappa0", kappa0)
     if not isinstance(f, Transition):
         raise ValueError(f"f={f!r} must be a Transition (ExpQuartic, FlatBlend, CustomTransition)")
-    s, t = _grid(s, t, L)
+    s, t = checked_grid(s, t, L)
 
     def needed(tol):
         if f.max_order < 3:
@@ -342,7 +342,7 @@ def smooth_release_exact(
 
     if precise:
         return _smooth_release_precise(s, t, kappa0, c, L, rate, f, terms, tol, digits, budget)
-    n_terms = _terms(terms, tol, needed, DEFAULT_TOL_DUHAMEL, MAX_TERMS_DUHAMEL)
+    n_terms = term_count(terms, tol, needed, DEFAULT_TOL_DUHAMEL, MAX_TERMS_DUHAMEL)
     coef_n = np.arange(1, n_terms + 1)
     k = sqrt_lambda(coef_n, L)
     sign = np.where(coef_n % 2 == 0, 1.0, -1.0)
@@ -360,12 +360,12 @@ def _smooth_release_precise(s, t, kappa0, c, L, rate, f, terms, tol, digits, bud
     """Eq (29) in mpmath: the first N terms exactly, the rest by the expansion by parts
     (:mod:`.reference`), to ``tol`` (default DEFAULT_TOL_PRECISE, or 10^-(digits - 5) if
     that is larger: no more than the precision can hold); ``terms=N`` truncates."""
-    _mp_budget(0, 0.0, digits, None, "")
+    check_mp_budget(0, 0.0, digits, None, "")
     if terms is not None:
-        _terms(terms, None, lambda tol: 1)
+        term_count(terms, None, lambda tol: 1)
     if tol is None:
         tol = max(DEFAULT_TOL_PRECISE, 10.0 ** -(int(digits) - 5))
-    tol = _positive_number("tol", tol)
+    tol = positive_number("tol", tol)
     times = np.unique(t)
     with mpmath.workdps(digits + 10):
         plan = reference.smooth_release_plan(
@@ -380,7 +380,7 @@ def _smooth_release_precise(s, t, kappa0, c, L, rate, f, terms, tol, digits, bud
             digits=digits,
             terms=terms,
         )
-        if budget is not None and plan.seconds > _positive_number("budget", budget):
+        if budget is not None and plan.seconds > positive_number("budget", budget):
             replan = functools.partial(
                 reference.smooth_release_plan,
                 times, s.size, c=c, L=L, rate=rate, kappa0=kappa0, f=f, digits=digits,
