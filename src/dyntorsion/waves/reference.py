@@ -94,6 +94,17 @@ def instant_release_sum(s, t, *, kappa0, c, L):
 
 
 # ============================================================ eq (29)
+class Release(NamedTuple):
+    """The smooth release of eq (29): wave speed ``c`` [m/s], length ``L`` [m], release
+    rate ``rate`` [1/s], initial twist ``kappa0`` [1/m] and the :class:`Transition` ``f``."""
+
+    c: float
+    L: float
+    rate: float
+    kappa0: float
+    f: Transition
+
+
 class SmoothPlan(NamedTuple):
     """How eq (29) is summed: N exact terms, M orders of the tail, the rule, the cost."""
 
@@ -138,9 +149,11 @@ def _panels(N: int, Omega: float, T: float, rate: float) -> int:
 
 
 def smooth_release_plan(
-    times, n_points: int, *, c, L, rate, kappa0, f: Transition, tol, digits, terms=None
+    times, n_points: int, release: Release, *, tol, digits, terms=None
 ) -> SmoothPlan:
-    """Choose N and M for eq (29) at the given distinct times (see the module docstring)."""
+    """Choose N and M for eq (29) of the :class:`Release` ``release`` at the given
+    distinct times, ``n_points`` points each (see the module docstring)."""
+    c, L, rate, kappa0, f = release
     Omega = math.pi * c / (2 * L)
     X = f.negligible_beyond(digits + 5)
     Ts = tuple(min(float(t), X / rate) for t in times)
@@ -190,8 +203,10 @@ def smooth_release_plan(
     return best
 
 
-def refusal(plan: SmoothPlan, replan, f: Transition, tol, budget, c, L, rate, terms) -> str:
-    """The budget error of eq (29): the plan's cost, and what would make it possible."""
+def refusal(plan: SmoothPlan, replan, release: Release, tol, budget, terms) -> str:
+    """The budget error of eq (29): the plan's cost, and what would make it possible
+    (``replan(tol=...)`` the plan at another tolerance)."""
+    c, L, rate, _, f = release
     Omega = math.pi * c / (2 * L)
     fits = None
     if terms is None:

@@ -368,24 +368,15 @@ def _smooth_release_precise(s, t, kappa0, c, L, rate, f, terms, tol, digits, bud
     tol = positive_number("tol", tol)
     times = np.unique(t)
     with mpmath.workdps(digits + 10):
+        release = reference.Release(c, L, rate, kappa0, f)
         plan = reference.smooth_release_plan(
-            times,
-            s.size,
-            c=c,
-            L=L,
-            rate=rate,
-            kappa0=kappa0,
-            f=f,
-            tol=tol,
-            digits=digits,
-            terms=terms,
+            times, s.size, release, tol=tol, digits=digits, terms=terms
         )
         if budget is not None and plan.seconds > positive_number("budget", budget):
             replan = functools.partial(
-                reference.smooth_release_plan,
-                times, s.size, c=c, L=L, rate=rate, kappa0=kappa0, f=f, digits=digits,
-            )  # fmt: skip
-            raise BudgetError(reference.refusal(plan, replan, f, tol, budget, c, L, rate, terms))
+                reference.smooth_release_plan, times, s.size, release, digits=digits
+            )
+            raise BudgetError(reference.refusal(plan, replan, release, tol, budget, terms))
         out = reference.smooth_release_sums(
             s, t, kappa0=kappa0, c=c, L=L, rate=rate, f=f, plan=plan
         )
