@@ -74,6 +74,7 @@ data: $(VENV)/.test-installed
 	$(BIN)/dyntorsion sweep $(foreach p,$(DATA_PRESETS),--preset $(p)) --jobs $(JOBS) --no-fit --on-stale $(ON_STALE)
 	$(BIN)/dyntorsion linear $(foreach p,$(LINEAR_PRESETS),--preset $(p)) --jobs $(JOBS) --quiet --on-stale $(ON_STALE)
 	$(PY) -m dyntorsion.studies.traces --on-stale $(ON_STALE)
+	$(PY) -m dyntorsion.studies.wave_convergence --on-stale $(ON_STALE)
 	$(PY) -m dyntorsion.studies.consistency --jobs $(JOBS) --on-stale $(ON_STALE)
 
 ## site-check: open every page of the quick build (made by `make test`; built here when
