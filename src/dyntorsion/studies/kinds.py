@@ -23,6 +23,10 @@ KINDS: dict[str, tuple[str, ...]] = {
     "onset-rules": ("dyntorsion.buckling.onset_rules:run_rules", *_SCENE),
     "onset-trace": ("dyntorsion.studies.traces:compare", *_SCENE),
     "wave-convergence": ("dyntorsion.studies.wave_convergence:convergence",),
+    "readings-scan": (
+        "dyntorsion.studies.scan_record:scan_table",
+        "dyntorsion.studies.scan_record:inputs_digest",
+    ),
     "contact-run": (
         "dyntorsion.beyond.contact.run:run_contact_scene",
         "dyntorsion.beyond.contact.run:ContactScene",
