@@ -75,6 +75,7 @@ data: $(VENV)/.test-installed
 	$(BIN)/dyntorsion linear $(foreach p,$(LINEAR_PRESETS),--preset $(p)) --jobs $(JOBS) --quiet --on-stale $(ON_STALE)
 	$(PY) -m dyntorsion.studies.traces --on-stale $(ON_STALE)
 	$(PY) -m dyntorsion.studies.wave_convergence --on-stale $(ON_STALE)
+	$(PY) -m dyntorsion.studies.after_onset --on-stale $(ON_STALE)
 	$(PY) -m dyntorsion.studies.consistency --jobs $(JOBS) --on-stale $(ON_STALE)
 	$(PY) -m dyntorsion.studies.scan_record --on-stale $(ON_STALE)
 

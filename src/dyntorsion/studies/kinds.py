@@ -27,6 +27,11 @@ KINDS: dict[str, tuple[str, ...]] = {
         "dyntorsion.studies.scan_record:scan_table",
         "dyntorsion.studies.scan_record:inputs_digest",
     ),
+    "after-onset": (
+        "dyntorsion.studies.after_onset:study",
+        "dyntorsion.studies.after_onset:params",
+        *_SCENE,
+    ),
     "contact-run": (
         "dyntorsion.beyond.contact.run:run_contact_scene",
         "dyntorsion.beyond.contact.run:ContactScene",
