@@ -7,7 +7,6 @@ data``) hold the page's three tables, one row per run, so that the page reads th
 
 from __future__ import annotations
 
-import time
 from typing import Any
 
 import numpy as np
@@ -16,9 +15,9 @@ from ..buckling import detect_onset, simulate
 from ..buckling.postbuckling import contact_measures, energy_balance
 from ..buckling.scene import Scene, simulate_scene
 from ..genalpha import Scheme, StepControl
-from ..store.location import default_store
 from ..store.results import Store, json_ready
 from . import fidelity
+from .page_records import read_or_compute
 from .presets import FIG10_RATES, SEEDS
 
 __all__ = ["KIND", "RATES", "params", "study", "load"]
@@ -121,17 +120,10 @@ def load(
     (default data/scenes): computed when missing or stale with ``compute=True`` (a stale
     one refused with ``on_stale="error"``), refused otherwise (:class:`LookupError`)."""
     level = fidelity.check_level(level or fidelity.level())
-    if not isinstance(store, Store):
-        store = Store(default_store() if store is None else store)
     p = params(level)
-    rec = store.load(KIND, p, on_stale=on_stale if compute else "error")
-    if rec is None:
-        if not compute:
-            raise LookupError(f"no {KIND} record at {level} in {store.root}: run `make data`")
-        start = time.perf_counter()
-        result = study(p)
-        rec = store.read(store.save(KIND, p, result, time.perf_counter() - start))
-    return rec["result"]
+    return read_or_compute(
+        KIND, p, lambda: study(p), store, compute=compute, on_stale=on_stale, what=f" at {level}"
+    )
 
 
 if __name__ == "__main__":  # make data

@@ -12,15 +12,14 @@ from __future__ import annotations
 
 import hashlib
 import math
-import time
 from typing import Any
 
 import numpy as np
 import pandas as pd
 
-from ..store.location import default_store
 from ..store.results import Store
 from . import claims, consistency, readings
+from .page_records import read_or_compute
 
 __all__ = ["KIND", "STEP", "BAND", "inputs_digest", "scan_table", "load", "compute"]
 
@@ -82,19 +81,17 @@ def load(
     """The scan of these inputs at ``step`` [decades] and ``band`` from ``store`` (default
     data/scenes): computed when missing or stale with ``compute=True`` (a stale one refused
     with ``on_stale="error"``), refused otherwise (:class:`LookupError` naming ``make data``)."""
-    if not isinstance(store, Store):
-        store = Store(default_store() if store is None else store)
     params = {"step": step, "band": band, "inputs": inputs_digest(map_table, direct, grid_error)}
-    rec = store.load(KIND, params, on_stale=on_stale if compute else "error")
-    if rec is None:
-        if not compute:
-            raise LookupError(
-                f"no {KIND} record for these map and direct runs in {store.root}: run `make data`"
-            )
-        start = time.perf_counter()
-        result = scan_table(map_table, direct, grid_error, step, band)
-        rec = store.read(store.save(KIND, params, result, time.perf_counter() - start))
-    return _frame(rec["result"])
+    result = read_or_compute(
+        KIND,
+        params,
+        lambda: scan_table(map_table, direct, grid_error, step, band),
+        store,
+        compute=compute,
+        on_stale=on_stale,
+        what=" for these map and direct runs",
+    )
+    return _frame(result)
 
 
 def compute(on_stale: str = "recompute") -> pd.DataFrame:

@@ -13,9 +13,9 @@ import time
 from typing import Any
 
 from ..model.rod import Rod
-from ..store.location import default_store
 from ..store.results import Store
 from ..waves import SmoothRelease, solve
+from .page_records import read_or_compute
 
 __all__ = ["KIND", "PARAMS", "convergence", "load"]
 
@@ -75,16 +75,9 @@ def load(
     """The record of the study ``params`` (:data:`PARAMS`) from ``store`` (default
     data/scenes): computed when missing or stale with ``compute=True`` (a stale one refused
     with ``on_stale="error"``), refused otherwise (:class:`LookupError` naming ``make data``)."""
-    if not isinstance(store, Store):
-        store = Store(default_store() if store is None else store)
-    rec = store.load(KIND, params, on_stale=on_stale if compute else "error")
-    if rec is None:
-        if not compute:
-            raise LookupError(f"no {KIND} record in {store.root}: run `make data`")
-        start = time.perf_counter()
-        result = convergence(params)
-        rec = store.read(store.save(KIND, params, result, time.perf_counter() - start))
-    return rec["result"]
+    return read_or_compute(
+        KIND, params, lambda: convergence(params), store, compute=compute, on_stale=on_stale
+    )
 
 
 if __name__ == "__main__":  # make data
