@@ -161,9 +161,11 @@ def test_an_unknown_set_is_refused_with_the_allowed_names():
 
 @pytest.fixture(scope="module")
 def scanned(maps, direct):
-    from dyntorsion.studies import readings as R
+    """The page's scan of these runs, read from its record (``make data`` computes it; the
+    record's fingerprint covers the scan, so a stale one is refused)."""
+    from dyntorsion.studies import scan_record
 
-    return R.scan(maps, direct, C.fig8_grid_error())
+    return scan_record.load(maps, direct, C.fig8_grid_error())
 
 
 def test_the_verdict_over_readings_and_tolerances(scanned):
