@@ -1,7 +1,9 @@
 """Open every page of a built site in headless Chromium and fail on what a reader would meet.
 
-Usage: ``python docs/site_check.py BUILD_DIR [--screens DIR] [--chromium PATH]``
-(``make site-check``).  Each HTML page of BUILD_DIR is loaded from disk with every
+Usage: ``python docs/site_check.py BUILD_DIR [--screens DIR] [--chromium PATH] [--budgets]``
+(``make site-check``).  With ``--budgets`` only the word budgets are checked, without a
+browser: a table of pages, narrative words and the share of long sentences, and exit
+status 1 when a budget is broken (``docs/site_budget.py``).  Otherwise each HTML page of BUILD_DIR is loaded from disk with every
 request that leaves the build refused and recorded; after MathJax has finished, the
 page fails on
 
@@ -26,7 +28,8 @@ page fails on
   ``plotting.save``) reads under 9 pt,
 
 and, across pages, on one glue key shown with two values on two pages (the glued values
-the build keeps in ``_glue/``, see ``docs/conf.py``).
+the build keeps in ``_glue/``, see ``docs/conf.py``), and on a broken word budget
+(``docs/site_budget.py``: narrative words per page and in total, long sentences).
 
 A full-page screenshot of each page goes to the screens directory.  Exit status 1
 lists every failure, page by page.
@@ -39,6 +42,8 @@ import shutil
 import sys
 from pathlib import Path
 from urllib.parse import unquote, urlparse
+
+import site_budget  # docs/, this script's folder
 
 VIEWPORT = {"width": 1280, "height": 900}
 
@@ -402,15 +407,29 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument(
         "--self-test", action="store_true", help="first check that a page of defects fails"
     )
+    ap.add_argument(
+        "--budgets", action="store_true", help="check only the word budgets (no browser)"
+    )
     args = ap.parse_args(argv)
     if args.self_test:
         import tempfile
 
         with tempfile.TemporaryDirectory() as tmp:
-            self_test(chromium_path(args.chromium), Path(tmp))
+            site_budget.self_test(Path(tmp))
+            if not args.budgets:
+                self_test(chromium_path(args.chromium), Path(tmp))
     if not (args.build / "index.html").is_file():
         sys.exit(f"site-check: build={args.build} has no index.html")
+    counts = site_budget.count_site(args.build)
+    over = site_budget.problems(counts)
+    if args.budgets:
+        print(site_budget.table(counts))
+        print("\n".join(f"over budget: {p}" for p in over) or "site-check: every budget kept")
+        return 1 if over else 0
     found = check(args.build, args.screens, chromium_path(args.chromium))
+    for problem in over:
+        page, _, what = problem.partition(": ")
+        found.setdefault(page if page != "site" else "index.html", []).append(("budget", what))
     bad = {k: v for k, v in found.items() if v}
     for rel, problems in bad.items():
         print(f"{rel}:")
