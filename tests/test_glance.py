@@ -134,7 +134,7 @@ def test_verdict_by_id():
 
 
 def test_the_closest_consistency_cell_is_a_variant(table):
-    """The consistency map's closest cell (issue 19) is a row for each dynamic number it
+    """The consistency map's cell is a row for each dynamic number it
     gives; its Fig 8 onset is calibrated (the seed is interpolated to it)."""
     rows = table[table["variant"].str.startswith(glance.CLOSEST)].set_index("id")
     assert set(rows.index) == {
