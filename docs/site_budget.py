@@ -5,7 +5,7 @@ API reference pages and the changelog -- is at most :data:`TOTAL_WORDS` words, n
 than :data:`PAGE_WORDS`, and on every page at most :data:`LONG_SHARE` of the sentences run
 over :data:`LONG_WORDS` words.  Words are counted on the built HTML, in the page's main
 content, leaving out ``pre``, ``code``, tables, maths, notebook cell outputs and inputs,
-navigation and the ``¶`` anchors.  Only the standard library is used, so the count runs
+API entries a page embeds (autodoc), navigation and the ``¶`` anchors.  Only the standard library is used, so the count runs
 without a browser: ``python docs/site_check.py BUILD --budgets`` prints the table and exits
 non-zero when a budget is broken.
 """
@@ -48,6 +48,7 @@ SKIP = (
     ("nav", None),
     ("math", None),
     ("mjx-container", None),
+    ("dl", "py"),
     (None, "math"),
     (None, "cell_output"),
     (None, "cell_input"),
@@ -231,6 +232,7 @@ def self_test(tmp: Path) -> None:
             "<p>Inline <code>a b c</code> and <span class='math'>\\(a b c\\)</span>.</p>"
             "<table><tr><td>" + "y " * 3000 + "</td></tr></table>"
             "<div class='cell_output'>" + "z " * 3000 + "</div>"
+            "<dl class='py function'><dt>f()</dt><dd><p>" + "Doc words. " * 500 + "</p></dd></dl>"
         ),
         "api_reference.html": _page("<p>" + sentence * 400 + "</p>"),
     }
