@@ -140,6 +140,8 @@ class PageCount:
     sentences: int
     long: int
     longest: int
+    #: the sentences over :data:`LONG_WORDS` words, for the writer to mend
+    long_sentences: tuple[str, ...] = ()
 
     @property
     def long_share(self) -> float:
@@ -153,13 +155,15 @@ def count_html(html: str, page: str = "") -> PageCount:
     parser.close()
     if not parser.found_main:
         raise ValueError(f"page={page!r}: no main content ({' or '.join(map(str, MAIN))})")
-    lengths = [len(WORD.findall(s)) for b in parser.blocks for s in sentences(b)]
+    split = [s for b in parser.blocks for s in sentences(b)]
+    lengths = [len(WORD.findall(s)) for s in split]
     return PageCount(
         page=page,
         words=sum(len(WORD.findall(b)) for b in parser.blocks),
         sentences=len(lengths),
         long=sum(n > LONG_WORDS for n in lengths),
         longest=max(lengths, default=0),
+        long_sentences=tuple(s for s, n in zip(split, lengths, strict=True) if n > LONG_WORDS),
     )
 
 

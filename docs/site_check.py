@@ -410,6 +410,13 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument(
         "--budgets", action="store_true", help="check only the word budgets (no browser)"
     )
+    ap.add_argument(
+        "--long",
+        nargs="*",
+        metavar="PAGE",
+        help="with --budgets: list the long sentences"
+        " of these pages (of every page when none is named)",
+    )
     args = ap.parse_args(argv)
     if args.self_test:
         import tempfile
@@ -424,6 +431,13 @@ def main(argv: list[str] | None = None) -> int:
     over = site_budget.problems(counts)
     if args.budgets:
         print(site_budget.table(counts))
+        for c in counts if args.long is not None else ():
+            if c.long_sentences and (not args.long or c.page in args.long):
+                print(
+                    f"\n{c.page}:",
+                    *(f"  [{len(s.split())}] {s}" for s in c.long_sentences),
+                    sep="\n",
+                )
         print("\n".join(f"over budget: {p}" for p in over) or "site-check: every budget kept")
         return 1 if over else 0
     found = check(args.build, args.screens, chromium_path(args.chromium))
