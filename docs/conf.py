@@ -56,8 +56,6 @@ html_theme_options = {
 }
 # light only: the figures are drawn on white
 html_context = {"default_mode": "light"}
-# the page's own outline ("on this page") is shown even for short pages
-html_sidebars = {"**": ["navbar-logo.html", "search-button-field.html", "sbt-sidebar-nav.html"]}
 # Markdown that cells display (the glance tables) is MyST: maths, tables, links to pages
 nb_render_markdown_format = "myst"
 autodoc_member_order = "bysource"
