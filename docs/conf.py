@@ -31,7 +31,14 @@ myst_enable_extensions = ["dollarmath", "amsmath"]
 nb_execution_mode = "force"
 nb_execution_raise_on_error = True
 nb_execution_timeout = 1800
-exclude_patterns = ["_build", "_ext", "jupyter_execute", "**.ipynb_checkpoints", "site_check.py", "site_budget.py"]
+exclude_patterns = [
+    "_build",
+    "_ext",
+    "jupyter_execute",
+    "**.ipynb_checkpoints",
+    "site_check.py",
+    "site_budget.py",
+]
 # sphinx-book-theme: the site's outline on the left, "on this page" on the right, one
 # column on a phone; its fonts, icons and scripts are files of the build (no CDN), and
 # nothing links out to a repository, Binder or a download service
