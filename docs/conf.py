@@ -39,8 +39,8 @@ exclude_patterns = [
     "site_check.py",
     "site_budget.py",
 ]
-# sphinx-book-theme: the site's outline on the left, "on this page" on the right, one
-# column on a phone; its fonts, icons and scripts are files of the build (no CDN), and
+# sphinx-book-theme: "on this page" and the site's outline on the left, one column on a
+# phone; its fonts, icons and scripts are files of the build (no CDN), and
 # nothing links out to a repository, Binder or a download service
 html_theme = "sphinx_book_theme"
 html_title = f"dyntorsion {__version__}"
@@ -60,6 +60,12 @@ html_theme_options = {
     "navigation_with_keys": False,
     "show_navbar_depth": 1,
     "footer_content_items": ["copyright"],
+    # the page's outline goes to the left, above the site's: a second sidebar on the
+    # right would leave the article too narrow for the figures' smallest text
+    "secondary_sidebar_items": [],
+}
+html_sidebars = {
+    "**": ["navbar-logo.html", "search-button-field.html", "page-toc.html", "sbt-sidebar-nav.html"]
 }
 # light only: the figures are drawn on white
 html_context = {"default_mode": "light"}

@@ -165,9 +165,11 @@ PROBE = r"""
       if (s.includes(doc)) out.push(['apidoc', 'built-in docstring: ' + doc.slice(0, 60)]);
   }
   // the footer names the version
-  const footer = document.querySelector('div.footer, footer');
-  if (!footer || !text(footer).includes('version ' + VERSION))
-    out.push(['footer', 'no "version ' + VERSION + '" in the footer: ' + (footer ? text(footer).trim().slice(0, 60) : 'none')]);
+  // (a theme may have several footers: the page's, a previous/next bar)
+  const footers = Array.from(document.querySelectorAll('div.footer, footer'));
+  if (!footers.some((f) => text(f).includes('version ' + VERSION)))
+    out.push(['footer', 'no "version ' + VERSION + '" in the footer: '
+      + (footers.length ? footers.map((f) => text(f).trim().slice(0, 30)).join(' | ') : 'none')]);
   // figures scaled below the smallest readable text
   for (const img of main.querySelectorAll('img')) {
     if (!img.complete || img.naturalWidth === 0 || /\.svg$/i.test(img.getAttribute('src') || '')) continue;
