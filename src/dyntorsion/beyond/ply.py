@@ -1,4 +1,4 @@
-"""The thin-rod theory of the plectoneme (issue 33, item 3): the torque plateau of a
+"""The thin-rod theory of the plectoneme: the torque plateau of a
 twisted rod under tension once a plectoneme grows, for the quasi-static comparison.
 
 The plectoneme is taken as a uniform two-ply: two strands wound round each other, in

@@ -68,7 +68,7 @@ def _history(a: float | None, kappa0: float, history: History | None) -> History
 
 
 def _checked(hist: History, t_end: float) -> History:
-    """The history, its output checked once before the run (issue 37): finite numbers, one
+    """The history, its output checked once before the run: finite numbers, one
     per time, over [0, t_end]; else a ValueError naming the history."""
     t = np.linspace(0.0, t_end, 2001)
     name = f"custom {hist.name!r}" if hasattr(hist, "func") else hist.label()

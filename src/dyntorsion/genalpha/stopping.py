@@ -32,7 +32,7 @@ def deferred_signals():
     """Within the block, SIGINT and SIGTERM only note that they came (the list yielded);
     :func:`act_on` re-raises the first under the handler that was in force, between two
     compiled chunks.  A Python-level exception raised while compiled code returns to
-    Python crashed the process (issue 37: Ctrl-C and SIGTERM gave signal 11); a handler
+    Python crashed the process (Ctrl-C and SIGTERM gave signal 11); a handler
     that only notes the signal lets the chunk return normally.  Outside the main thread
     (where handlers cannot be set) nothing changes, nor for a signal ignored on entry (a
     background job's SIGINT): it stays ignored."""

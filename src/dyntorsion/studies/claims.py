@@ -1,5 +1,5 @@
 """Do the paper's dynamic claims hold together?  The fits and the claims of the
-consistency map (issue 19; scenes in :mod:`dyntorsion.studies.consistency`).
+consistency map (scenes in :mod:`dyntorsion.studies.consistency`).
 
 The paper's four dynamic claims (values from the package's ``published.json``):
 

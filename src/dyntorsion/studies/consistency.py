@@ -1,4 +1,4 @@
-"""The consistency map's scenes (issue 19): which of the paper's unstated choices -- the
+"""The consistency map's scenes: which of the paper's unstated choices -- the
 seed (size and form), the onset rule, the rates of Fig 10 -- reproduce which of its
 dynamic claims.  The claims and the fits are in :mod:`dyntorsion.studies.claims`.
 

@@ -1,4 +1,4 @@
-"""Runs past contact cached in the store (issue 33): record kind ``"contact-run"``.
+"""Runs past contact cached in the store: record kind ``"contact-run"``.
 
 A :class:`~dyntorsion.beyond.contact.run.ContactScene` is keyed by its whole
 :meth:`~dyntorsion.beyond.contact.run.ContactScene.params` (the scene's key plus the

@@ -159,8 +159,8 @@ def _step_grid() -> list[Scene]:
     ]
 
 
-#: the hold-out sets of the error estimate of :func:`~dyntorsion.studies.tolerance.onset_within`
-#: (issue 34): Fig 10 rates at three seeds, another rod, and rate sweeps under a tension
+#: the hold-out sets of the error estimate of :func:`~dyntorsion.studies.tolerance.onset_within`:
+#: Fig 10 rates at three seeds, another rod, and rate sweeps under a tension
 #: and a compression (fractions of the clamped Euler load).  The first set was computed
 #: with the estimate fixed beforehand; the second (rates half a step of 10^(1/6) between
 #: Fig 10's, other seeds, another rod and loads) after the chooser's rule was changed
@@ -293,7 +293,7 @@ def cached(name: str, store: Store | str | Path | None = None) -> pd.DataFrame:
     return run_sweep(preset(name), store, compute=False, on_stale="error", progress=False)
 
 
-#: the step-size control every preset runs with (issue 15): identical to fixed steps
+#: the step-size control every preset runs with: identical to fixed steps
 #: until the first rejected step, so the onsets do not move, and the runs go on past the
 #: post-buckling whip to self-contact or t_end instead of stopping on a Newton failure
 PRESET_CONTROL = StepControl()

@@ -1,4 +1,4 @@
-"""The readings and tolerances of the paper's four dynamic claims (issue 35): what each
+"""The readings and tolerances of the paper's four dynamic claims: what each
 claim can be read to say, how close is "good agreement", and how many cells of the
 consistency map (:mod:`dyntorsion.studies.claims`) hold all four under each choice.
 

@@ -1,4 +1,4 @@
-"""The solver's share of the onset's error (beyond the paper; issue 34, item 1).
+"""The solver's share of the onset's error (beyond the paper).
 
 Below a seed of about 1e-13 N/m the Newton solve's tolerance moves the onset more than
 the grid does (:mod:`~dyntorsion.studies.tolerance`, module docstring), so the estimate of

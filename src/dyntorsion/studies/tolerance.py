@@ -1,5 +1,5 @@
 """Accuracy on demand: the onset of a buckling scene to a requested relative tolerance,
-with an a-posteriori error estimate (beyond the paper; issue 34, item 1).
+with an a-posteriori error estimate (beyond the paper).
 
 The onset time t_c of section 6 has no exact solution; its discretisation error is
 estimated from the scene run on a sequence of grids that halve ``ds`` and ``dt``

@@ -1,5 +1,5 @@
 """How honest is the error estimate of :func:`~dyntorsion.studies.tolerance.onset_within`?
-(beyond the paper; issue 34, item 1)
+(beyond the paper)
 
 Over the scenes of each hold-out set (:data:`~dyntorsion.studies.presets.HOLDOUTS`: Fig 10
 rates at three seeds, another rod, a tension and a compression), each run on the rungs

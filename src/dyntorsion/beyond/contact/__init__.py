@@ -1,4 +1,4 @@
-"""Past self-contact (issue 33): the rod followed through the first self-contact.
+"""Past self-contact: the rod followed through the first self-contact.
 
 * :mod:`.centreline` -- r(s, t) and the frame reconstructed at each step from the 12 fields
   (spatial route of section 4), and the drift of that reconstruction;

@@ -1,5 +1,5 @@
 """The centreline r(s, t) and the frame of a contact scene, reconstructed at every step
-from the 12 fields (issue 33, item 1).
+from the 12 fields.
 
 Route: the spatial one of section 4 (eq 17, first form, and r_s = d3): from the frame
 of the left end, R(0, t) = exp(-hat(theta_L e3)) with theta_L = int_0^t w3(0, t') dt'

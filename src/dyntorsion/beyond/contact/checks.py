@@ -1,4 +1,4 @@
-"""The checks issue 33 asks of a run past contact, each with its bound, in one place.
+"""The checks of a run past contact, each with its bound, in one place.
 
 A run past contact (:func:`~.run.run_contact_scene`, ``dyntorsion buckle --contact``) is
 within the issue's bounds when

@@ -1,5 +1,5 @@
-"""The Cosserat rod of section 2 with linear viscous damping per unit length (issue 33,
-item 2, for comparisons with damped references): the balances of eq (7) gain
+"""The Cosserat rod of section 2 with linear viscous damping per unit length (for
+comparisons with damped references): the balances of eq (7) gain
 
     linear momentum   ... + gamma_u u = 0,      angular momentum   ... + gamma_w w = 0
 

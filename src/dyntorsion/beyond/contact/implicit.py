@@ -1,5 +1,5 @@
 """The contact law of :mod:`.law` inside the implicit step: force and Jacobian at the new
-level as functions of the new velocity fields (issue 33, item 2).
+level as functions of the new velocity fields.
 
 **Positions at the new level.**  The contact acts on the time route of the centreline
 (:mod:`.centreline`, :class:`dyntorsion.shapes.FrameTracker`, eqs 17-21): frames and

@@ -1,4 +1,4 @@
-"""The contact law of the rod with itself and with its end fixtures (issue 33, item 2).
+"""The contact law of the rod with itself and with its end fixtures.
 
 **Law.**  A penalty spring-dashpot between segments of the centreline polygon whose arc
 length gap exceeds ``min_arc`` (a few diameters: closer parts touch only by bending

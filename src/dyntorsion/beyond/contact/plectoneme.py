@@ -1,4 +1,4 @@
-"""The number of plectoneme turns of a centreline (issue 33, item 3): how many times the
+"""The number of plectoneme turns of a centreline: how many times the
 two strands of a plectoneme wind round each other.
 
 A plectoneme is the rod folded back on itself at its tip, its two strands in contact

@@ -1,4 +1,4 @@
-"""A buckling scene followed past self-contact (issue 33): :class:`Contact` (the law and
+"""A buckling scene followed past self-contact: :class:`Contact` (the law and
 its numbers), :class:`ContactScene` (a :class:`~dyntorsion.buckling.scene.Scene` with a
 contact, keyed by the scene's key plus ``"contact"``: scenes without contact keep their
 keys and records) and :func:`run_contact_scene`.

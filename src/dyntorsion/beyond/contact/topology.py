@@ -1,4 +1,4 @@
-"""Link, twist and writhe of the rod (issue 33, item 3): Calugareanu-White-Fuller,
+"""Link, twist and writhe of the rod: Calugareanu-White-Fuller,
 Lk = Tw + Wr, in turns.
 
 * **Twist** from the frame: Tw = (1/2 pi) int_0^L d1' . d2 ds = (1/2 pi) int_0^L kappa3 ds
