@@ -66,7 +66,8 @@ PROBE = r"""
 (cfg) => {
   const BUILTIN_DOCS = cfg.docs, VERSION = cfg.version, MIN_SCALE = cfg.min_scale;
   const out = [];
-  const main = document.querySelector('article.bd-article') || document.querySelector('div.body') || document.body;
+  const main = document.querySelector('article.bd-article') || document.querySelector('div.body')
+    || document.querySelector('main#main-content') || document.body;
   const text = (el) => el.innerText || '';
   // maths
   for (const el of document.querySelectorAll('.math')) {
