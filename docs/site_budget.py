@@ -64,11 +64,13 @@ BLOCKS = {
     "caption", "div", "section", "blockquote", "br", "td", "th", "summary",
 }  # fmt: skip
 VOID = {"br", "img", "hr", "input", "meta", "link", "wbr", "source", "col", "area", "embed"}
+#: what stands for left-out code or maths in the text: no word, but a sentence may start
+HOLE = "\ue000"
 #: a word holds a letter or a digit ("—" and "·" are not words)
 WORD = re.compile(r"\S*[^\W_]\S*")
 #: a sentence ends at . ! ? followed by space and a capital, digit, bracket or quote;
 #: abbreviations (e.g., Fig.) split too early, which only makes sentences shorter
-SENTENCE_END = re.compile(r"(?<=[.!?])[\"'”’)]*\s+(?=[A-Z0-9(\[“\"'*])")
+SENTENCE_END = re.compile(r"(?<=[.!?])[\"'”’)]*\s+(?=[A-Z0-9(\[“\"'*\ue000])")
 ABBREVIATIONS = re.compile(r"\b(?:e\.g|i\.e|Fig|Figs|Eq|eq|eqs|cf|vs|al|approx|Sec|ref)\.$")
 
 
@@ -93,8 +95,12 @@ class _Text(HTMLParser):
         in_main, skipped = self.stack[-1][1:] if self.stack else (False, False)
         if not in_main and any(tag == t and c in classes for t, c in MAIN):
             in_main = self.found_main = True
-        if any((t is None or t == tag) and (c is None or c in classes) for t, c in SKIP):
+        if not skipped and any(
+            (t is None or t == tag) and (c is None or c in classes) for t, c in SKIP
+        ):
             skipped = True
+            if in_main:  # a sentence may begin with code or maths: keep its place
+                self.current.append(HOLE)
         if in_main and not skipped and tag in BLOCKS:
             self._flush()
         if tag not in VOID:
@@ -163,7 +169,9 @@ def count_html(html: str, page: str = "") -> PageCount:
         sentences=len(lengths),
         long=sum(n > LONG_WORDS for n in lengths),
         longest=max(lengths, default=0),
-        long_sentences=tuple(s for s, n in zip(split, lengths, strict=True) if n > LONG_WORDS),
+        long_sentences=tuple(
+            s.replace(HOLE, "[…]") for s, n in zip(split, lengths, strict=True) if n > LONG_WORDS
+        ),
     )
 
 

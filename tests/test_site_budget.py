@@ -46,3 +46,10 @@ def test_a_long_sentence_is_named(budget):
 def test_a_page_without_main_content_is_refused(budget):
     with pytest.raises(ValueError, match="page='x.html'"):
         budget.count_html("<html><body><p>no main</p></body></html>", "x.html")
+
+
+def test_a_sentence_may_begin_with_code(budget):
+    c = budget.count_html(
+        '<div class="body"><p>It runs at every step. <code>tests/x.py</code> checks it.</p></div>'
+    )
+    assert (c.words, c.sentences) == (7, 2)
