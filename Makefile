@@ -97,7 +97,8 @@ site-check: $(VENV)/.site-installed
 
 ## lint: ruff check, ruff format --check and the import contracts of pyproject.toml
 ## (import-linter: the layers of the package and no import circle within a folder)
-LINTED := src tests benchmarks docs/conf.py docs/site_check.py docs/site_budget.py
+LINTED := src tests benchmarks docs/conf.py docs/site_check.py docs/site_budget.py \
+  docs/site_selftest.py
 lint: $(VENV)/.lint-installed
 	$(BIN)/ruff check $(LINTED)
 	$(BIN)/ruff format --check $(LINTED)

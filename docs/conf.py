@@ -38,6 +38,7 @@ exclude_patterns = [
     "**.ipynb_checkpoints",
     "site_check.py",
     "site_budget.py",
+    "site_selftest.py",
 ]
 # sphinx-book-theme: "on this page" and the site's outline on the left, one column on a
 # phone; its fonts, icons and scripts are files of the build (no CDN), and
