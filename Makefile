@@ -82,7 +82,9 @@ data: $(VENV)/.test-installed
 ## site-check: open every page of the quick build (made by `make test`; built here when
 ## missing), or of SITE=docs/_build/html after `make docs`, in headless Chromium: fails on
 ## untypeset maths, requests leaving the site, broken images/links, Python errors and
-## reprs, glue placeholders, row numbers/nan/-0 in tables, sideways overflow.
+## reprs, glue placeholders, row numbers/nan/-0 in tables, sideways overflow, and on the
+## word budgets (narrative words per page and in total, long sentences: docs/site_budget.py;
+## without a browser: python docs/site_check.py SITE --budgets).
 ## Screenshots: docs/_build/screens/.  Installs Debian's chromium when it is missing.
 SITE ?= docs/_build/quick
 $(VENV)/.site-installed: pyproject.toml | $(PY)
@@ -98,7 +100,8 @@ site-check: $(VENV)/.site-installed
 
 ## lint: ruff check, ruff format --check and the import contracts of pyproject.toml
 ## (import-linter: the layers of the package and no import circle within a folder)
-LINTED := src tests benchmarks docs/conf.py docs/site_check.py
+LINTED := src tests benchmarks docs/conf.py docs/site_check.py docs/site_budget.py \
+  docs/site_selftest.py
 lint: $(VENV)/.lint-installed
 	$(BIN)/ruff check $(LINTED)
 	$(BIN)/ruff format --check $(LINTED)

@@ -125,8 +125,8 @@ def _newton(a: float, kappa0: float, seed: str = "stated") -> list[Scene]:
     ]
 
 
-#: the initial state and the seed's form as a further dimension of the delay law (the
-#: "Initial state and seed" page): the Fig 10 sweep from the unstressed rod with
+#: the initial state and the seed's form as a further dimension of the delay law (issue
+#: 35; the "Initial state and seed" page): the Fig 10 sweep from the unstressed rod with
 #: kappa0 brought in by section 5's transition in about 0.02 s (its torsional wave needs
 #: dt = 0.001 s, so this one runs at five of the rates, every third from 0.16, until the
 #: first peak) and in about 0.5 s, and with the stated seed fixed in the lab frame or
@@ -159,16 +159,16 @@ def _step_grid() -> list[Scene]:
     ]
 
 
-#: the hold-out sets of the error estimate of :func:`~dyntorsion.studies.tolerance.onset_within`
-#:: Fig 10 rates at three seeds, another rod, and rate sweeps under a tension
+#: the hold-out sets of the error estimate of :func:`~dyntorsion.studies.tolerance.onset_within`:
+#: Fig 10 rates at three seeds, another rod, and rate sweeps under a tension
 #: and a compression (fractions of the clamped Euler load).  The first set was computed
 #: with the estimate fixed beforehand; the second (rates half a step of 10^(1/6) between
 #: Fig 10's, other seeds, another rod and loads) after the chooser's rule was changed
 #: in view of the first ("Accuracy and cost" page); the third (rates a quarter of a step
 #: above Fig 10's, other seeds, rod and loads) after the estimate of the continuous reading
-#: was fixed, to test it; the fourth (rates three quarters of a step above
+#: was fixed (2026-11-27), to test it; the fourth (rates three quarters of a step above
 #: Fig 10's, other seeds, rod and loads) after the solver check was added to both
-#: estimates (:data:`~dyntorsion.studies.tolerance.SOLVER_FACTOR`), to test that
+#: estimates (2026-11-27, :data:`~dyntorsion.studies.tolerance.SOLVER_FACTOR`), to test that
 HALF_RATES: tuple[float, ...] = tuple(float(1.6 * 10 ** ((k + 0.5) / 6)) for k in range(-9, 6))
 QUARTER_RATES: tuple[float, ...] = tuple(float(1.6 * 10 ** ((k + 0.25) / 6)) for k in range(-9, 6))
 THREE_QUARTER_RATES: tuple[float, ...] = tuple(
