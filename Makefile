@@ -77,7 +77,6 @@ data: $(VENV)/.test-installed
 	$(PY) -m dyntorsion.studies.wave_convergence --on-stale $(ON_STALE)
 	$(PY) -m dyntorsion.studies.after_onset --on-stale $(ON_STALE)
 	$(PY) -m dyntorsion.studies.consistency --jobs $(JOBS) --on-stale $(ON_STALE)
-	$(PY) -m dyntorsion.studies.scan_record --on-stale $(ON_STALE)
 
 ## site-check: open every page of the quick build (made by `make test`; built here when
 ## missing), or of SITE=docs/_build/html after `make docs`, in headless Chromium: fails on
