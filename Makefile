@@ -125,6 +125,7 @@ bench: $(VENV)/.bench-installed
 	$(PY) benchmarks/bench_scenes.py
 	OPENBLAS_NUM_THREADS=1 $(PY) benchmarks/bench_contact.py
 	$(PY) benchmarks/bench_targets.py --make-data
+	$(PY) benchmarks/bench_today.py
 	$(PY) benchmarks/plectoneme_matched.py --print
 	$(PY) benchmarks/bench_pyelastica.py
 
