@@ -403,7 +403,9 @@ def test_bad_rates_are_one_line_errors(rates, capsys):
 
 def _committed_like_record(store: Path) -> tuple[S.Scene, Path]:
     scene = S.Scene(a=16.0, kappa0=10.0, n_cells=8, dt=0.02, t_end=0.1)
-    path = R.Store(store).save(S.KIND, scene.params(), {"t_c": None})
+    none = dict.fromkeys(("t_c", "kappa3", "uncertainty_t", "uncertainty_kappa3"))
+    result = {"status": "no-onset", "stopped": "t_end", "steps": 5, **none}
+    path = R.Store(store).save(S.KIND, scene.params(), result)  # every entry an onset needs
     return scene, path
 
 

@@ -12,7 +12,6 @@ import signal
 import sys
 import threading
 from collections.abc import Sequence
-from pathlib import Path
 
 import numpy as np
 
@@ -25,7 +24,8 @@ from .cli_fit import fit, fit_rows, print_fit
 from .cli_options import add_scene_options, parse_rates, scene_from
 from .cli_rtol import add_rtol_options, buckle_rtol, result_json, sweep_rtol
 from .contact_cli import add_contact_options, buckle_contact
-from .faults import EXIT_INTERRUPTED, describe
+from .faults import EXIT_INPUT, EXIT_INTERRUPTED, blank_value, describe
+from .info import info as _info
 
 
 def _peak_twist(scene: Scene) -> float:
@@ -57,10 +57,17 @@ def _buckle(args: argparse.Namespace) -> int:
         print(
             f"cached     read from {args.store}, not recomputed (--on-stale recompute to redo a stale one)"
         )
-    print(f"stopped    {row['stopped']}")
+    print(f"stopped    {_stopped(row)}")
     print(f"status     {row['status']}")
     if row["status"] == "no-onset" and row["stopped"] == "t_end" and kappa_cri is not None:
         peak = _peak_twist(scene)
+        if peak >= kappa_cri and row.get("u3_peak") == 0.0:
+            print(
+                f"no onset: the end twist passed kappa_cri = {kc} 1/m, yet u3(L, t) stayed exactly "
+                f"0: nothing this grid and seed resolve moved the rod (bending time T0 = "
+                f"{scene.rod.T0:.3g} s, dt = {scene.dt:g} s); use --fidelity, or a larger --seed"
+            )
+            return 1
         if peak < kappa_cri:
             print(
                 f"no onset: the end twist stays below kappa_cri = {kc} 1/m (at most "
@@ -73,6 +80,9 @@ def _buckle(args: argparse.Namespace) -> int:
             "no static kappa_cri for this scene tells an instability from a rod bent by its seed"
         )
         return 1
+    if row["status"] == "failed":  # the onset was never reached: say so, not why none was read
+        print("no onset: the run failed (the line 'stopped') before the rod could buckle")
+        return 1
     if row["status"] != "buckled":
         why = row.get("onset_error") or "no onset detected before the run ended"
         print(why if row["status"] != "forced" else f"{why} (t_c is no critical time)")
@@ -83,6 +93,16 @@ def _buckle(args: argparse.Namespace) -> int:
         f"(static kappa_cri = {kc})"
     )
     return 0
+
+
+def _stopped(row: dict) -> str:
+    """The run's end; a Newton failure after a buckled onset is the post-buckling whip."""
+    if row["status"] == "buckled" and row["stopped"].startswith("failed"):
+        return (
+            "in the post-buckling whip, after the onset (a Newton failure there ends the run; "
+            f"the onset stands): {row['stopped']}"
+        )
+    return row["stopped"]
 
 
 def _sweep_scenes(args: argparse.Namespace) -> list[Scene]:
@@ -134,7 +154,9 @@ def _sweep(args: argparse.Namespace) -> int:
             scenes,
             args.store,
             executor=executor,
-            jobs=args.jobs,
+            # dask's futures do not say which run: bound the sweep to its workers, so
+            # that an interrupt keeps every scene submitted
+            jobs=args.jobs if client is None else sum(client.nthreads().values()),
             on_stale=args.on_stale,
             on_corrupt=args.on_corrupt,
             progress=not args.quiet,
@@ -201,40 +223,8 @@ def _linear_presets() -> list[str]:
 STORE_HELP = "cache folder (default: $DYNTORSION_DATA, else the checkout's data/scenes, else the user cache; `dyntorsion info` names it)"
 
 
-def _info(args: argparse.Namespace) -> int:
-    """What this installation is and where it keeps its records."""
-    import platform
-
-    import numba
-
-    from .. import __file__ as package_file
-    from ..store.environment import numerical_environment
-    from ..store.location import store_origin
-
-    store, why = store_origin()
-    env = numerical_environment()
-    kernels = ", ".join(f"{k} ({lib})" for lib, k in env["blas_kernels"].items()) or "not OpenBLAS"
-    rows = {
-        "dyntorsion": __version__,
-        "package": str(Path(package_file).parent),
-        "store": f"{store} ({why})",
-        "numba cache": os.environ.get("NUMBA_CACHE_DIR")
-        or "beside the package's modules (__pycache__)",
-        "python": f"{platform.python_version()} ({sys.executable})",
-        "numba": numba.__version__,
-        "numpy, scipy": f"{env['numpy']}, {env['scipy']}",
-        # the runs past contact depend on these in the last bit (dyntorsion.store.environment)
-        "openblas kernels": kernels,
-        "numpy loops": " ".join(env["numpy_simd"]) or "baseline only",
-    }
-    width = max(map(len, rows))
-    for key, val in rows.items():
-        print(f"{key:<{width}}  {val}")
-    return 0
-
-
-#: argparse takes "-1e9" for an option; a number in any float notation is a value
-_NEGATIVE_NUMBER = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$")
+#: argparse takes "-1e9" or "-inf" for an option; a number in any float notation is a value
+_NEGATIVE_NUMBER = re.compile(r"^-((\d+\.?\d*|\.\d+)([eE][-+]?\d+)?|inf(inity)?|nan)$", re.I)
 
 
 def parser() -> argparse.ArgumentParser:
@@ -264,7 +254,8 @@ def parser() -> argparse.ArgumentParser:
     b.add_argument(
         "--store",
         default=None,
-        help="cache folder: read the scene from it, or compute and add it; " + STORE_HELP,
+        help="cache folder: read the scene from it, or compute and add it (default: none, "
+        "the result is printed and not kept)",
     )
     b.add_argument("--on-stale", choices=ON_STALE, default="recompute")
     add_contact_options(b)  # with --json
@@ -337,9 +328,17 @@ def parser() -> argparse.ArgumentParser:
     return p
 
 
-class _Terminated(BaseException):
-    """SIGTERM, raised where the run stands (a BaseException, so that no handler of
-    ordinary errors on the way takes it for a failed run)."""
+class _Terminated(KeyboardInterrupt):
+    """SIGTERM, raised where the run stands: an interrupt (so that a sweep keeps its
+    running scenes as on Ctrl-C, and no handler of ordinary errors on the way takes it
+    for a failed run)."""
+
+
+def _kept(args: argparse.Namespace) -> str:
+    """What an interrupted command kept: ``buckle`` keeps its result only with --store."""
+    if args.command == "buckle" and not args.store:
+        return "nothing was kept (buckle keeps its result only with --store)"
+    return "finished results are kept in the store"
 
 
 def _terminate(signum, frame) -> None:
@@ -351,6 +350,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     (``--debug``: the traceback instead)."""
     argv = list(sys.argv[1:] if argv is None else argv)
     debug = "--debug" in argv
+    blank = blank_value(argv)
+    if blank:
+        print(f"dyntorsion: error: {blank}", file=sys.stderr)
+        return EXIT_INPUT
     args = parser().parse_args([a for a in argv if a != "--debug"])
     if args.max_time is not None and not args.max_time > 0:
         print(f"dyntorsion: error: --max-time={args.max_time} must be > 0 seconds", file=sys.stderr)
@@ -362,19 +365,16 @@ def main(argv: Sequence[str] | None = None) -> int:
     old = signal.signal(signal.SIGTERM, _terminate) if main_thread else None
     try:
         return args.func(args)
-    except KeyboardInterrupt:
-        if debug:
-            raise
-        print("dyntorsion: interrupted; finished results are kept in the store", file=sys.stderr)
-        return EXIT_INTERRUPTED
     except _Terminated as stop:
         if debug:
             raise
-        print(
-            "dyntorsion: terminated (SIGTERM); finished results are kept in the store",
-            file=sys.stderr,
-        )
+        print(f"dyntorsion: terminated (SIGTERM); {_kept(args)}", file=sys.stderr)
         return 128 + stop.args[0]
+    except KeyboardInterrupt:
+        if debug:
+            raise
+        print(f"dyntorsion: interrupted; {_kept(args)}", file=sys.stderr)
+        return EXIT_INTERRUPTED
     except Exception as err:
         if debug:
             raise

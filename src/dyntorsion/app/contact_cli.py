@@ -11,6 +11,7 @@ import argparse
 from ..beyond.contact.checks import verdict
 from ..beyond.contact.run import Contact, ContactScene, run_contact_scene
 from ..buckling.scene import Scene
+from ..store.results import UnsavedResultError
 from ..studies.contact_runs import contact_run
 from .cli_rtol import result_json
 
@@ -55,6 +56,13 @@ def buckle_contact(args: argparse.Namespace, scene: Scene) -> int:
     when the run did not reach its end (a passage or a Newton failure)."""
     if args.t_end is None:
         raise ValueError("--contact needs --t-end T [s]: how long to follow the rod past contact")
+    if args.rtol is not None:
+        raise ValueError("--contact runs the scene's own grid; --rtol chooses grids: give one")
+    if args.until != "contact":
+        raise ValueError(
+            f"--contact follows the rod through self-contact to --t-end; --until {args.until} "
+            "ends the run before it: give one"
+        )
     contact = Contact(
         stiffness=args.contact_stiffness, damping=args.contact_damping, viscous=args.viscous,
         min_arc=args.contact_min_arc,
@@ -62,13 +70,37 @@ def buckle_contact(args: argparse.Namespace, scene: Scene) -> int:
         implicit=not args.contact_lagged, max_step=args.contact_max_step,
         max_cell_bend=args.contact_max_cell_bend,
     )  # fmt: skip
+    _check_min_arc(contact, scene)
     cs = ContactScene(scene, contact)
+    unsaved = None
     if getattr(args, "store", None):
-        record, cached = contact_run(cs, args.store, on_stale=args.on_stale)
+        try:
+            record, cached = contact_run(cs, args.store, on_stale=args.on_stale)
+        except UnsavedResultError as err:  # printed below, then the error
+            record, cached, unsaved = err.result, False, err
         result = {**record["summary"], "cached": cached}
     else:
         result = run_contact_scene(cs).result()
     result["checks"] = verdict(result)
+    _print(args, result)
+    if unsaved is not None:
+        raise unsaved
+    return 0 if result["stopped"] == "t_end" else 1
+
+
+def _check_min_arc(contact: Contact, scene: Scene) -> None:
+    """Refuse a ``min_arc`` [diameters] no shorter than the rod: no two parts of it could
+    touch (and the plectoneme count of such a run overflows)."""
+    rod = scene.rod
+    if not contact.min_arc * rod.thickness < rod.L:
+        raise ValueError(
+            f"contact min_arc={contact.min_arc!r} diameters: allowed range [1, "
+            f"{rod.L / rod.thickness:g}), below the rod's length L / D (no two parts of it "
+            "could touch)"
+        )
+
+
+def _print(args: argparse.Namespace, result: dict) -> None:
     if args.json:
         print(result_json(result))
     else:
@@ -82,4 +114,3 @@ def buckle_contact(args: argparse.Namespace, scene: Scene) -> int:
             reading = f"{r:.4g}" if isinstance(r, float) else str(r).split(":")[0]
             print(f"check: {c['name']:<22} {reading:<24} bound {c['bound']!s:<6} "
                   f"{'met' if c['met'] else 'NOT met'}")  # fmt: skip
-    return 0 if result["stopped"] == "t_end" else 1

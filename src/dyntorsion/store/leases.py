@@ -188,7 +188,11 @@ def acquire_lease(
             say(f"lease {path.name} broken: {why}")
             path.unlink(missing_ok=True)
             continue
-        with os.fdopen(fd, "w") as fh:
-            json.dump(_holder(), fh)
+        try:
+            with os.fdopen(fd, "w") as fh:
+                json.dump(_holder(), fh)
+        except OSError as err:  # a full disk: leave no empty lease for the next run to wait on
+            path.unlink(missing_ok=True)
+            raise OSError(err.errno, f"cannot write the lease ({err.strerror})", str(path)) from err
         return Lease(path)
     return None

@@ -15,7 +15,10 @@ atomically (a temporary file in the same folder, then ``os.replace``), so a
 killed run leaves either the whole record or none.
 
 Reading checks, in order: the content hash (a damaged or hand-edited record is
-refused), the parameters (they must equal the request), and then the package
+refused; the hash is a checksum against damage, not a signature: anyone who edits a
+record and recomputes its hash has it served, so a store is only as trustworthy as
+whoever can write to it), the result entries its kind must hold
+(:func:`require_result`), the parameters (they must equal the request), and then the package
 version and the code fingerprint.  A record that fails the last check is
 *stale*: :meth:`Store.load` recomputes it (``on_stale="recompute"``, it returns
 None), refuses it (``"error"``, :class:`StaleResultError` says what changed), or
@@ -51,6 +54,22 @@ ON_STALE = ("recompute", "error", "accept")
 ON_CORRUPT = ("quarantine", "error")
 #: the suffix of a damaged record moved aside
 CORRUPT_SUFFIX = ".corrupt"
+
+
+#: the result entries a record of each kind must hold (:func:`require_result`)
+RESULT_KEYS: dict[str, tuple[str, ...]] = {}
+
+
+def require_result(kind: str, keys: tuple[str, ...]) -> None:
+    """Declare the result entries every record of ``kind`` holds: a record without one
+    (whatever its hash) is damaged, moved aside and recomputed like any other."""
+    RESULT_KEYS[kind] = tuple(keys)
+
+
+class UnsavedResultError(OSError):
+    """A result computed but not written (the store failed): ``result`` holds it."""
+
+    result: Any = None
 
 
 class StaleResultError(RuntimeError):
@@ -235,6 +254,14 @@ class Store:
             raise CorruptResultError(
                 f"{path}: content hash does not match its content "
                 "(damaged or edited by hand); delete it to recompute"
+            )
+        result = record.get("result")
+        needs = RESULT_KEYS.get(record.get("kind"), ())
+        missing = [k for k in needs if not isinstance(result, dict) or k not in result]
+        if missing:
+            raise CorruptResultError(
+                f"{path}: its result lacks {', '.join(missing)} (edited by hand, or written "
+                "by other code); delete it to recompute"
             )
         return record
 

@@ -9,7 +9,10 @@ Faults it answers for:
   waits for its record instead of computing it again (and takes it over if the
   holder dies);
 * an interrupt (SIGINT, or SIGTERM in the command line) keeps what finished: items
-  already running are awaited and written (a second interrupt abandons them);
+  already running are awaited and written (a second interrupt abandons them), on local
+  processes and on an executor given its number of workers (the command line's dask);
+* a local worker killed from outside breaks the pool: the unfinished items start again
+  once in new workers;
 * local worker processes die with their parent (:func:`_watch_parent`).
 """
 
@@ -28,7 +31,7 @@ from pathlib import Path
 from typing import Any, TypedDict, Unpack
 
 from .leases import LEASE_SUFFIX, holder_of
-from .results import Store
+from .results import Store, UnsavedResultError
 
 __all__ = ["MapOptions", "DEFAULT_OPTIONS", "cached_map", "MissingResultError", "WAIT_POLL_S"]
 
@@ -126,11 +129,13 @@ def cached_map(
     JSON-ready result.  Records in ``store`` (default
     :func:`~dyntorsion.store.location.default_store`) are read; the others run on ``executor``,
     or on ``jobs`` local processes (``jobs=1``: here), each claimed by a lease first
+    (with an ``executor``, ``jobs`` > 1 is how many items it runs at once -- its workers:
+    then an interrupt awaits and keeps every item submitted; ``jobs=1`` submits all)
     and written the moment it finishes.  ``show`` names a result entry for the log
     line; ``command`` is the one the missing-result error recommends; ``options`` are the
     :class:`MapOptions` (defaults :data:`DEFAULT_OPTIONS`).
     """
-    from .location import default_store
+    from .location import checkout, default_store
 
     unknown = set(options) - set(DEFAULT_OPTIONS)
     if unknown:
@@ -162,7 +167,8 @@ def cached_map(
         missing = "\n  ".join(items[i].label() for i in todo)
         raise MissingResultError(
             f"{len(todo)} {kind} record(s) are not in {store.root}:\n  {missing}\n"
-            f"compute them with `make data` (or `{command}`)"
+            f"compute them with `{command}`"
+            + (" (or `make data` in the checkout)" if checkout() is not None else "")
         )
     if todo:
         for path in store.clean():
@@ -183,10 +189,18 @@ class _Sweep:
         self.bar = None
 
     def finish(self, i: int, result: dict[str, Any], wall: float) -> None:
-        path = self.store.save(self.kind, self.items[i].params(), result, wall_time=wall)
+        tail = f" -> {self.show} = {result[self.show]}" if self.show else ""
+        try:
+            path = self.store.save(self.kind, self.items[i].params(), result, wall_time=wall)
+        except OSError as err:  # the disk filled during the run: say what was computed
+            lost = UnsavedResultError(
+                err.errno, f"{err.strerror}; computed, not kept: {self.items[i].label()}{tail}",
+                err.filename,
+            )  # fmt: skip
+            lost.result = result
+            raise lost from err
         self.records[i] = (self.store.read(path), False)
         self.release(i)
-        tail = f" -> {self.show} = {result[self.show]}" if self.show else ""
         self.say(f"done in {wall:.1f} s: {self.items[i].label()}{tail}")
         if self.bar is not None:
             self.bar.update()
@@ -268,9 +282,32 @@ class _Sweep:
             self.finish(i, *_timed(self.run, self.items[i]))
 
     def parallel(self, todo: list[int], executor, jobs: int) -> None:
-        own = executor is None
-        pool = executor or _local_pool(jobs)
-        capacity = jobs if own else len(todo)
+        """Run ``todo`` on ``executor`` (``jobs`` at a time; 1: all submitted at once) or
+        on ``jobs`` local processes; a local worker killed from outside (the operating
+        system out of memory, a kill) breaks the pool: the finished items are written and
+        the unfinished ones start again once in new workers."""
+        if executor is not None:
+            return self.submit(todo, executor, jobs, own=False)
+        for attempt in (1, 2):
+            try:
+                return self.submit(todo, _local_pool(jobs), jobs, own=True)
+            except cf.BrokenExecutor as err:
+                lost = [i for i in todo if i not in self.records]
+                for i in lost:
+                    self.release(i)
+                what = f"{len(lost)} unfinished item(s)"
+                if attempt == 2:
+                    raise cf.BrokenExecutor(
+                        f"a worker process died twice (killed by the system: out of memory?); "
+                        f"the finished items are in {self.store.root}, {what} are not; rerun "
+                        "with fewer --jobs"
+                    ) from err
+                self.say(f"a worker process died (killed by the system?): {what} start again")
+                todo = lost
+        return None
+
+    def submit(self, todo: list[int], pool, jobs: int, own: bool) -> None:
+        capacity = jobs if own or jobs > 1 else len(todo)
         pending, waiting = deque(todo), deque()
         futures: dict[cf.Future, int] = {}
         try:
@@ -295,7 +332,9 @@ class _Sweep:
                         pending.extend(waiting)
                         waiting.clear()
         except KeyboardInterrupt:
-            self.keep_running(futures, pool if own else None)
+            # a foreign executor bounded to its workers runs every item submitted; its
+            # futures may not say so (dask's stay pending), and cancelling would stop them
+            self.keep_running(futures, pool if own else None, cancel=own or jobs == 1)
             raise
         except BaseException:
             self.keep_done(futures)
@@ -312,10 +351,11 @@ class _Sweep:
             if not fut.cancel() and fut.done() and fut.exception() is None:
                 self.finish(i, *fut.result())
 
-    def keep_running(self, futures: dict[cf.Future, int], pool) -> None:
-        """On an interrupt: cancel what has not started, await and write what runs; a
-        second interrupt abandons those (and stops local workers)."""
-        for fut in futures:
+    def keep_running(self, futures: dict[cf.Future, int], pool, cancel: bool = True) -> None:
+        """On an interrupt: cancel what has not started (``cancel``; else every future is
+        taken as running), await and write what runs; a second interrupt abandons those
+        (and stops local workers)."""
+        for fut in futures if cancel else ():
             fut.cancel()
         running = {f: i for f, i in futures.items() if not f.cancelled()}
         if running:

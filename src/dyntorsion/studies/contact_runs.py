@@ -19,7 +19,7 @@ from typing import Any
 
 from ..beyond.contact.run import ContactScene, run_contact_scene
 from ..store.location import default_store
-from ..store.results import Store, json_ready
+from ..store.results import Store, UnsavedResultError, json_ready
 
 __all__ = ["KIND", "contact_run"]
 
@@ -40,6 +40,17 @@ def contact_run(
     record = st.load(KIND, params, on_stale=on_stale)
     if record is not None:
         return record["result"], True
+    lease = st.lease(KIND, params)  # before the run: an unwritable store fails now
+    try:
+        return _computed(cs, st, params), False
+    finally:
+        if lease is not None:
+            lease.release()
+
+
+def _computed(cs: ContactScene, st: Store, params: dict[str, Any]) -> dict[str, Any]:
+    """Run ``cs`` and write its record; a record that cannot be written raises
+    :class:`~dyntorsion.store.results.UnsavedResultError` holding the result."""
     tick = time.perf_counter()
     run = run_contact_scene(cs)
     h = run.history
@@ -50,5 +61,12 @@ def contact_run(
             "final_centreline": h["r"][-1],
         }
     )
-    st.save(KIND, params, result, time.perf_counter() - tick)
-    return result, False
+    try:
+        st.save(KIND, params, result, time.perf_counter() - tick)
+    except OSError as err:
+        lost = UnsavedResultError(
+            err.errno, f"{err.strerror}; the run is printed, not kept", err.filename
+        )
+        lost.result = result
+        raise lost from err
+    return result

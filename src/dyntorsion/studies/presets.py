@@ -289,8 +289,16 @@ PRESETS: dict[str, Callable[[], list[Scene]]] = {
 def cached(name: str, store: Store | str | Path | None = None) -> pd.DataFrame:
     """The table of a named preset read from ``store`` (default :func:`~dyntorsion.store.location.default_store`), computing
     nothing: a missing scene raises :class:`MissingResultError`, a stale one
-    :class:`~dyntorsion.store.results.StaleResultError`, each asking for ``make data``."""
-    return run_sweep(preset(name), store, compute=False, on_stale="error", progress=False)
+    :class:`~dyntorsion.store.results.StaleResultError`, each naming the command that
+    computes it (``dyntorsion sweep --preset NAME``; in a checkout also ``make data``)."""
+    return run_sweep(
+        preset(name),
+        store,
+        command=f"dyntorsion sweep --preset {name}",
+        compute=False,
+        on_stale="error",
+        progress=False,
+    )
 
 
 #: the step-size control every preset runs with: identical to fixed steps

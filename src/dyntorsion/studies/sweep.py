@@ -21,7 +21,7 @@ from typing import Any, Unpack
 import pandas as pd
 
 from ..buckling.scene import Scene, run_scene, simulate_scene
-from ..store.results import Store, digest
+from ..store.results import Store, digest, require_result
 from ..store.workers import MapOptions, MissingResultError, cached_map
 
 __all__ = [
@@ -35,6 +35,10 @@ __all__ = [
 ]
 
 KIND = "buckling-onset"
+#: what every onset record holds (a record without one is damaged: moved aside, recomputed)
+require_result(
+    KIND, ("status", "stopped", "steps", "t_c", "kappa3", "uncertainty_t", "uncertainty_kappa3")
+)
 
 
 def _row(scene: Scene, record: dict[str, Any], cached: bool) -> dict[str, Any]:
@@ -87,6 +91,7 @@ def _legacy_status(scene: Scene, res: Mapping[str, Any]) -> str:
 def run_sweep(
     scenes: Sequence[Scene],
     store: Store | str | Path | None = None,
+    command: str = "dyntorsion sweep",
     **options: Unpack[MapOptions],
 ) -> pd.DataFrame:
     """Run (or read back) a sweep; one table row per scene, in the given order.
@@ -104,7 +109,8 @@ def run_sweep(
     the store the moment it completes, so an interrupted sweep loses at most the
     scenes that were running.  ``on_stale`` is passed to
     :meth:`~dyntorsion.store.results.Store.load`; ``compute=False`` only reads, and
-    raises :class:`MissingResultError` for any scene the store lacks.
+    raises :class:`MissingResultError` for any scene the store lacks, naming ``command``
+    as the one that computes them.
     """
     bad = [s for s in scenes if not isinstance(s, Scene)]
     if bad:
@@ -119,6 +125,6 @@ def run_sweep(
         store,
         **options,
         show="kappa3",
-        command="dyntorsion sweep",
+        command=command,
     )
     return pd.DataFrame([_row(scenes[i], *records[i]) for i in range(len(scenes))])
