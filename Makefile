@@ -78,12 +78,13 @@ data: $(VENV)/.test-installed
 	$(PY) -m dyntorsion.studies.wave_convergence --on-stale $(ON_STALE)
 	$(PY) -m dyntorsion.studies.after_onset --on-stale $(ON_STALE)
 	$(PY) -m dyntorsion.studies.consistency --jobs $(JOBS) --on-stale $(ON_STALE)
-	$(PY) -m dyntorsion.studies.scan_record --on-stale $(ON_STALE)
 
 ## site-check: open every page of the quick build (made by `make test`; built here when
 ## missing), or of SITE=docs/_build/html after `make docs`, in headless Chromium: fails on
 ## untypeset maths, requests leaving the site, broken images/links, Python errors and
-## reprs, glue placeholders, row numbers/nan/-0 in tables, sideways overflow.
+## reprs, glue placeholders, row numbers/nan/-0 in tables, sideways overflow, and on the
+## word budgets (narrative words per page and in total, long sentences: docs/site_budget.py;
+## without a browser: python docs/site_check.py SITE --budgets).
 ## Screenshots: docs/_build/screens/.  Installs Debian's chromium when it is missing.
 SITE ?= docs/_build/quick
 $(VENV)/.site-installed: pyproject.toml | $(PY)
@@ -99,7 +100,8 @@ site-check: $(VENV)/.site-installed
 
 ## lint: ruff check, ruff format --check and the import contracts of pyproject.toml
 ## (import-linter: the layers of the package and no import circle within a folder)
-LINTED := src tests benchmarks docs/conf.py docs/site_check.py
+LINTED := src tests benchmarks docs/conf.py docs/site_check.py docs/site_budget.py \
+  docs/site_selftest.py
 lint: $(VENV)/.lint-installed
 	$(BIN)/ruff check $(LINTED)
 	$(BIN)/ruff format --check $(LINTED)
@@ -124,6 +126,7 @@ bench: $(VENV)/.bench-installed
 	$(PY) benchmarks/bench_scenes.py
 	OPENBLAS_NUM_THREADS=1 $(PY) benchmarks/bench_contact.py
 	$(PY) benchmarks/bench_targets.py --make-data
+	$(PY) benchmarks/bench_today.py
 	$(PY) benchmarks/plectoneme_matched.py --print
 	$(PY) benchmarks/bench_pyelastica.py
 

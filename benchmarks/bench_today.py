@@ -20,7 +20,7 @@ import sys
 from pathlib import Path
 
 from bench_targets import measure, targets
-from records import write
+from dyntorsion.studies.contact.records import write
 from worktree import ROOT
 
 

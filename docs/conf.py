@@ -31,13 +31,45 @@ myst_enable_extensions = ["dollarmath", "amsmath"]
 nb_execution_mode = "force"
 nb_execution_raise_on_error = True
 nb_execution_timeout = 1800
-exclude_patterns = ["_build", "_ext", "jupyter_execute", "**.ipynb_checkpoints", "site_check.py"]
-html_theme = "alabaster"
+exclude_patterns = [
+    "_build",
+    "_ext",
+    "jupyter_execute",
+    "**.ipynb_checkpoints",
+    "site_check.py",
+    "site_budget.py",
+    "site_selftest.py",
+]
+# sphinx-book-theme: "on this page" and the site's outline on the left, one column on a
+# phone; its fonts, icons and scripts are files of the build (no CDN), and
+# nothing links out to a repository, Binder or a download service
+html_theme = "sphinx_book_theme"
 html_title = f"dyntorsion {__version__}"
 html_static_path = ["_static"]
 html_css_files = ["site.css"]
-# the body as wide as a 1280 px screen allows, so the equations fit
-html_theme_options = {"page_width": "1240px", "sidebar_width": "220px", "font_size": "16px"}
+html_theme_options = {
+    "home_page_in_toc": True,
+    "show_toc_level": 2,
+    "toc_title": "On this page",
+    "use_download_button": False,
+    "use_fullscreen_button": False,
+    "use_repository_button": False,
+    "use_source_button": False,
+    "use_issues_button": False,
+    "use_edit_page_button": False,
+    "launch_buttons": {},
+    "navigation_with_keys": False,
+    "show_navbar_depth": 1,
+    "footer_content_items": ["copyright"],
+    # the page's outline goes to the left, above the site's: a second sidebar on the
+    # right would leave the article too narrow for the figures' smallest text
+    "secondary_sidebar_items": [],
+}
+html_sidebars = {
+    "**": ["navbar-logo.html", "search-button-field.html", "page-toc.html", "sbt-sidebar-nav.html"]
+}
+# light only: the figures are drawn on white
+html_context = {"default_mode": "light"}
 # Markdown that cells display (the glance tables) is MyST: maths, tables, links to pages
 nb_render_markdown_format = "myst"
 autodoc_member_order = "bysource"

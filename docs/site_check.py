@@ -1,7 +1,9 @@
 """Open every page of a built site in headless Chromium and fail on what a reader would meet.
 
-Usage: ``python docs/site_check.py BUILD_DIR [--screens DIR] [--chromium PATH]``
-(``make site-check``).  Each HTML page of BUILD_DIR is loaded from disk with every
+Usage: ``python docs/site_check.py BUILD_DIR [--screens DIR] [--chromium PATH] [--budgets]``
+(``make site-check``).  With ``--budgets`` only the word budgets are checked, without a
+browser: a table of pages, narrative words and the share of long sentences, and exit
+status 1 when a budget is broken (``docs/site_budget.py``).  Otherwise each HTML page of BUILD_DIR is loaded from disk with every
 request that leaves the build refused and recorded; after MathJax has finished, the
 page fails on
 
@@ -26,7 +28,8 @@ page fails on
   ``plotting.save``) reads under 9 pt,
 
 and, across pages, on one glue key shown with two values on two pages (the glued values
-the build keeps in ``_glue/``, see ``docs/conf.py``).
+the build keeps in ``_glue/``, see ``docs/conf.py``), and on a broken word budget
+(``docs/site_budget.py``: narrative words per page and in total, long sentences).
 
 A full-page screenshot of each page goes to the screens directory.  Exit status 1
 lists every failure, page by page.
@@ -39,6 +42,9 @@ import shutil
 import sys
 from pathlib import Path
 from urllib.parse import unquote, urlparse
+
+import site_budget  # docs/, this script's folder
+import site_selftest
 
 VIEWPORT = {"width": 1280, "height": 900}
 
@@ -61,7 +67,8 @@ PROBE = r"""
 (cfg) => {
   const BUILTIN_DOCS = cfg.docs, VERSION = cfg.version, MIN_SCALE = cfg.min_scale;
   const out = [];
-  const main = document.querySelector('div.body') || document.body;
+  const main = document.querySelector('article.bd-article') || document.querySelector('div.body')
+    || document.querySelector('main#main-content') || document.body;
   const text = (el) => el.innerText || '';
   // maths
   for (const el of document.querySelectorAll('.math')) {
@@ -160,9 +167,11 @@ PROBE = r"""
       if (s.includes(doc)) out.push(['apidoc', 'built-in docstring: ' + doc.slice(0, 60)]);
   }
   // the footer names the version
-  const footer = document.querySelector('div.footer, footer');
-  if (!footer || !text(footer).includes('version ' + VERSION))
-    out.push(['footer', 'no "version ' + VERSION + '" in the footer: ' + (footer ? text(footer).trim().slice(0, 60) : 'none')]);
+  // (a theme may have several footers: the page's, a previous/next bar)
+  const footers = Array.from(document.querySelectorAll('div.footer, footer'));
+  if (!footers.some((f) => text(f).includes('version ' + VERSION)))
+    out.push(['footer', 'no "version ' + VERSION + '" in the footer: '
+      + (footers.length ? footers.map((f) => text(f).trim().slice(0, 30)).join(' | ') : 'none')]);
   // figures scaled below the smallest readable text
   for (const img of main.querySelectorAll('img')) {
     if (!img.complete || img.naturalWidth === 0 || /\.svg$/i.test(img.getAttribute('src') || '')) continue;
@@ -304,96 +313,6 @@ def check(
     return found
 
 
-# A page with one of each defect; --self-test asserts that every kind is caught.
-BAD_PAGE = """<!DOCTYPE html><html><head>
-<script src="https://cdn.example.org/mathjax.js"></script>
-<style>div.body { width: 400px; }</style></head><body><div class="body">
-<p>raw maths: \\(\\kappa_0\\)</p><span class="math">\\(x\\)</span>
-<p>a value {glue:text}`x`</p>
-<img src="missing.png" alt="a missing image">
-<img src="ok.svg">
-<dl><dt>PRESETS = {'a': &lt;function &lt;lambda&gt;&gt;}</dt></dl>
-<table><tbody><tr><th>0</th><td>1.5</td></tr><tr><th>1</th><td>nan</td></tr></tbody></table>
-<a href="nowhere.html">broken link</a> <a href="#no-such-anchor">broken anchor</a>
-<div class="cell_output"><div class="output stderr"><pre>ValueError: bad</pre></div></div>
-<pre>a line of code far too long for the column it sits in, so that it runs out of its box sideways</pre>
-<p>a rate of 12.800000 rad/(m s), an energy defect of 0.000 and
-<span class="pasted-text">1.4e-16</span> J; in prose as code, 1e-8 N is allowed</p>
-<table><thead><tr><th></th><th>t_c</th></tr><tr><th>seed</th><th></th></tr></thead>
-<tbody><tr><th>1e-8</th><td>14.70</td></tr></tbody></table>
-<dl class="py data"><dt>m_cri</dt><dd><p>Convert a string or number to a floating point number, if possible.</p></dd></dl>
-<img src="wide.png" alt="a figure squeezed to a quarter" style="width: 100px">
-</div><div class="footer">&copy;. | Powered by Sphinx</div></body></html>"""
-#: what the self-test plants in BAD_PAGE: (kind, part of the message) each must be caught
-PLANTED = (
-    ("maths", "raw delimiters"),
-    ("maths", "untypeset"),
-    ("network", "cdn.example.org"),
-    ("glue", "placeholder"),
-    ("glue", "glue key 'x' differs"),
-    ("image", "broken"),
-    ("image", "no alt text"),
-    ("link", "missing file"),
-    ("link", "missing anchor"),
-    ("python", "stderr"),
-    ("overflow", "pre"),
-    ("repr", "<function"),
-    ("table", "row numbers"),
-    ("table", "nan in a table"),
-    ("table", "pandas index row"),
-    ("number", "12.800000"),
-    ("number", "0.000"),
-    ("number", "1.4e-16"),
-    ("apidoc", "Convert a string or number"),
-    ("footer", 'no "version'),
-    ("small-text", "wide.png"),
-)
-OK_SVG = '<svg xmlns="http://www.w3.org/2000/svg" width="10" height="10"></svg>'
-
-
-def _png(width: int, height: int) -> bytes:
-    """A blank grey PNG image of ``width`` x ``height`` pixels."""
-    import struct
-    import zlib
-
-    def chunk(kind: bytes, data: bytes) -> bytes:
-        body = kind + data
-        return struct.pack(">I", len(data)) + body + struct.pack(">I", zlib.crc32(body))
-
-    rows = b"".join(b"\0" + b"\x80" * width for _ in range(height))
-    head = struct.pack(">IIBBBBB", width, height, 8, 0, 0, 0, 0)
-    return (
-        b"\x89PNG\r\n\x1a\n"
-        + chunk(b"IHDR", head)
-        + chunk(b"IDAT", zlib.compress(rows))
-        + (chunk(b"IEND", b""))
-    )
-
-
-def self_test(chromium: str, tmp: Path) -> None:
-    """Run the check on :data:`BAD_PAGE` (and a second page that glues one key to another
-    value); exit non-zero if a planted defect (:data:`PLANTED`) goes unnoticed."""
-    import json
-
-    site = tmp / "site"
-    (site / "_glue").mkdir(parents=True, exist_ok=True)
-    (site / "index.html").write_text(BAD_PAGE)
-    (site / "other.html").write_text("<html><body><div class='body'>ok</div></body></html>")
-    (site / "ok.svg").write_text(OK_SVG)
-    (site / "wide.png").write_bytes(_png(400, 40))
-    for page, value in (("index", "'20.78'"), ("other", "'20.79'")):
-        glued = {"x": {"data": {"text/plain": value}}, "same": {"data": {"text/plain": "'1'"}}}
-        (site / "_glue" / f"{page}.glue.json").write_text(json.dumps(glued))
-    found = check(site, tmp / "screens", chromium, version="0.0.0")["index.html"]
-    missed = [(kind, what) for kind, what in PLANTED
-              if not any(k == kind and what in w for k, w in found)]  # fmt: skip
-    if missed:
-        sys.exit(f"site-check self-test: planted defects not caught: {missed}; found: {found}")
-    if any("'same'" in w for _, w in found):
-        sys.exit("site-check self-test: a glue key with one value on two pages was flagged")
-    print(f"site-check self-test: all {len(PLANTED)} planted defects caught")
-
-
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("build", type=Path, help="a built HTML site (sphinx -b html)")
@@ -402,15 +321,43 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument(
         "--self-test", action="store_true", help="first check that a page of defects fails"
     )
+    ap.add_argument(
+        "--budgets", action="store_true", help="check only the word budgets (no browser)"
+    )
+    ap.add_argument(
+        "--long",
+        nargs="*",
+        metavar="PAGE",
+        help="with --budgets: list the long sentences"
+        " of these pages (of every page when none is named)",
+    )
     args = ap.parse_args(argv)
     if args.self_test:
         import tempfile
 
         with tempfile.TemporaryDirectory() as tmp:
-            self_test(chromium_path(args.chromium), Path(tmp))
+            site_budget.self_test(Path(tmp))
+            if not args.budgets:
+                site_selftest.self_test(chromium_path(args.chromium), Path(tmp))
     if not (args.build / "index.html").is_file():
         sys.exit(f"site-check: build={args.build} has no index.html")
+    counts = site_budget.count_site(args.build)
+    over = site_budget.problems(counts)
+    if args.budgets:
+        print(site_budget.table(counts))
+        for c in counts if args.long is not None else ():
+            if c.long_sentences and (not args.long or c.page in args.long):
+                print(
+                    f"\n{c.page}:",
+                    *(f"  [{len(s.split())}] {s}" for s in c.long_sentences),
+                    sep="\n",
+                )
+        print("\n".join(f"over budget: {p}" for p in over) or "site-check: every budget kept")
+        return 1 if over else 0
     found = check(args.build, args.screens, chromium_path(args.chromium))
+    for problem in over:
+        page, _, what = problem.partition(": ")
+        found.setdefault(page if page != "site" else "index.html", []).append(("budget", what))
     bad = {k: v for k, v in found.items() if v}
     for rel, problems in bad.items():
         print(f"{rel}:")

@@ -161,11 +161,9 @@ def test_an_unknown_set_is_refused_with_the_allowed_names():
 
 @pytest.fixture(scope="module")
 def scanned(maps, direct):
-    """The page's scan of these runs, read from its record (``make data`` computes it; the
-    record's fingerprint covers the scan, so a stale one is refused)."""
-    from dyntorsion.studies import scan_record
+    from dyntorsion.studies import readings as R
 
-    return scan_record.load(maps, direct, C.fig8_grid_error())
+    return R.scan(maps, direct, C.fig8_grid_error())
 
 
 def test_the_verdict_over_readings_and_tolerances(scanned):

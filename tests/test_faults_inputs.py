@@ -17,6 +17,7 @@ from dyntorsion import Rod
 from dyntorsion.app import cli
 from dyntorsion.app.cli import main
 from dyntorsion.buckling import Scene, simulate
+from dyntorsion.buckling.slender import check_slender
 from dyntorsion.genalpha import guard
 from dyntorsion.genalpha.guard import BudgetError
 from dyntorsion.store import leases, workers
@@ -51,6 +52,9 @@ def test_a_rod_too_thick_for_the_thin_rod_model_is_refused(D, capsys):
         simulate(
             Scene(rod=Rod(D=2.0, L=1.0), a=16.0, n_cells=10, dt=0.01, t_end=0.1), progress=False
         )
+    with pytest.raises(ValueError, match="allowed range"):
+        check_slender(Rod(D=2.0, L=1.0))
+    check_slender(Rod(D=0.1, L=1.0))  # the bound itself is a thin rod
 
 
 def test_a_contact_min_arc_past_the_rod_is_refused(capsys):

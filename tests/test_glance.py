@@ -47,7 +47,7 @@ def test_verdict_scale():
     assert glance._verdict(0.0, 4, 20.86) == "agrees to the digits stated"
     assert glance._verdict(0.004, 4, 20.86) == "agrees within 1 %"
     assert glance._verdict(0.03, 4, 20.86) == "close (within 5 %)"
-    assert glance._verdict(-0.3, 4, 20.86) == "differs"
+    assert glance._verdict(-0.3, 4, 20.86) == "differs by more than 5 %"
 
 
 def test_numbers_json_roundtrip(tmp_path, table):
@@ -122,7 +122,7 @@ def test_compact_table_for_the_site(table):
     # the paper's value as stated (its digits), ours to the same significant figures
     row = t[(t["quantity"] == "Fig 8: $t_c$") & (t["seed [N/m]"] == "10⁻⁸ (stated)")].iloc[0]
     assert row["paper"] == "20.86" and len(row["ours"].replace(".", "")) == 4
-    assert row["difference"].endswith(" %") and row["verdict"] == "differs"
+    assert row["difference"].endswith(" %") and row["verdict"] == "differs by more than 5 %"
     assert not t["ours"].str.contains("nan|e[+-]", regex=True).any()
     assert glance.markdown().count("\n") == len(t) + 1
 
@@ -130,12 +130,12 @@ def test_compact_table_for_the_site(table):
 def test_verdict_by_id():
     paper = glance.published()["fig8_tc"]["value"]
     assert glance.verdict("fig8_tc", paper) == "agrees to the digits stated"
-    assert glance.verdict("fig8_tc", 0.7 * paper) == "differs"
+    assert glance.verdict("fig8_tc", 0.7 * paper) == "differs by more than 5 %"
 
 
 def test_the_closest_consistency_cell_is_a_variant(table):
-    """The consistency map's closest cell (issue 19) is a row for each dynamic number it
-    gives; its Fig 8 onset agrees by construction (the seed is interpolated to it)."""
+    """The consistency map's cell is a row for each dynamic number it
+    gives; its Fig 8 onset is calibrated (the seed is interpolated to it)."""
     rows = table[table["variant"].str.startswith(glance.CLOSEST)].set_index("id")
     assert set(rows.index) == {
         "fig8_tc",
@@ -146,7 +146,8 @@ def test_the_closest_consistency_cell_is_a_variant(table):
         "law_fig9",
         "kappa_cri_extrapolated",
     }
-    assert rows.loc["fig8_tc", "verdict"] == "agrees to the digits stated"
+    assert rows.loc["fig8_tc", "verdict"] == glance.CALIBRATED_VERDICT
+    assert rows.loc["fig8_tc", "relative difference"] == pytest.approx(0, abs=5e-5)
     assert rows.loc["sigma", "verdict"] != "agrees to the digits stated"
     compact = glance.compact()
     closest = compact[compact["evidence"].str.contains(glance.CLOSEST_PAGE, regex=False)]
@@ -155,3 +156,19 @@ def test_the_closest_consistency_cell_is_a_variant(table):
     assert form in ("uniform", "point")
     said = "N at mid-span" if form == "point" else "uniform"
     assert closest["seed [N/m]"].str.contains(said, regex=False).all()
+
+
+def test_calibrated_rows_are_not_agreements(table):
+    """A number the seed was tuned to (Fig 8's onset, and kappa3 = a t_c with it) says
+    "calibrated", however close; every other row keeps its judged verdict."""
+    cal = table[table["calibrated"]]
+    assert set(cal["id"]) == {"fig8_tc", "fig8_kappa3"}
+    assert set(cal["variant"].str.split(":").str[0]) == {glance.TUNED, glance.CLOSEST}
+    assert (cal["verdict"] == glance.CALIBRATED_VERDICT).all()
+    assert (cal["relative difference"].abs() < 0.01).all()  # they would pass as agreements
+    rest = table[~table["calibrated"]]
+    assert not rest["verdict"].str.startswith("calibrated").any()
+    stated = table[(table["id"] == "fig8_tc") & (table["variant"].str.startswith("stated"))]
+    assert not stated["calibrated"].iloc[0]
+    assert glance.is_calibrated("fig8_tc", glance.TUNED)
+    assert not glance.is_calibrated("b", glance.TUNED)

@@ -1,8 +1,10 @@
 """Property-based tests of the input classes of the fault probe: every end history at
 numeric extremes agrees with a direct evaluation of its formula (mpmath, 50 digits) to a
 relative 1e-12; an empty or blank string for any command-line option is refused in one
-line; ``None`` for any :class:`~dyntorsion.buckling.scene.Scene` field is a TypeError or
-ValueError naming the field.  The hand-picked probes are in tests/test_faults_inputs.py."""
+line; a negative number in any notation is a value; ``None`` for any
+:class:`~dyntorsion.buckling.spec.Scene` field is a TypeError or ValueError naming the
+field; an interrupt (SIGINT or SIGTERM) keeps the items an executor runs.  The hand-picked
+probes are in tests/test_faults_inputs.py."""
 
 from __future__ import annotations
 

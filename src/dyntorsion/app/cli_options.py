@@ -20,6 +20,7 @@ from ..buckling.loading import (
 )
 from ..buckling.scene import UNTIL, Scene
 from ..buckling.seed import SEED_FORMS, STATED, Perturbation
+from ..buckling.slender import check_slender
 from ..buckling.turning import TurnHold
 from ..model.rod import TABLE1, Rod
 from ..studies import fidelity
@@ -302,8 +303,10 @@ def loads_from(args: argparse.Namespace) -> dict:
 def scene_from(args: argparse.Namespace, a: float | None) -> Scene:
     """The :class:`~dyntorsion.buckling.scene.Scene` the options describe, at the loading rate ``a``
     (the grid of ``--fidelity`` scaled to the rod; ``--control`` adds step-size control;
-    ``--paced`` sets the step by :func:`~dyntorsion.studies.pacing.paced`)."""
+    ``--paced`` sets the step by :func:`~dyntorsion.studies.pacing.paced`); a rod too thick
+    for the thin-rod model is refused (:func:`~dyntorsion.buckling.slender.check_slender`)."""
     rod = rod_from(args)
+    check_slender(rod)  # a rod too thick for the thin-rod model: refused before any grid
     seed = Perturbation(magnitude=args.seed, form=args.seed_form, location=args.seed_location)
     grid = fidelity.get(
         "buckling",

@@ -1,7 +1,7 @@
 """``dyntorsion buckle --contact``: a buckling scene followed past self-contact
 (:mod:`dyntorsion.beyond.contact`; with ``--store`` read from or written to the store as a
 ``contact-run`` record, :mod:`dyntorsion.studies.contact_runs`), its result with the
-contact checks, each reading beside its bound (:mod:`dyntorsion.beyond.contact.checks`),
+checks, each reading beside its bound (:mod:`dyntorsion.beyond.contact.checks`),
 and ``--json`` for every buckle run: one JSON object."""
 
 from __future__ import annotations

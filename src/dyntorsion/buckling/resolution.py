@@ -1,6 +1,6 @@
 """Could the run have seen the instability?  A run that ends without an onset is either an
 answer (the rod stayed straight) or a grid too coarse for the growth it had to show
-: ``"unresolved"``, with the grid that would resolve it.
+``"unresolved"``, with the grid that would resolve it.
 
 The growth is judged locally, as the straight rod twisted to kappa3(0, t) now: a bending
 wave e^{i k s + lambda t} of the twisted, axially loaded rod (the linearised Kirchhoff

@@ -21,10 +21,11 @@ from .loads import DistributedLoad
 from .postbuckling import diagnose
 from .run import BucklingRun
 from .seed import Perturbation
+from .slender import check_slender
 from .spec import Scene
 from .stops import STRAIGHT, scene_stop
 
-__all__ = ["simulate", "GridWarning", "check_grid", "check_slender", "SLENDERNESS"]
+__all__ = ["simulate", "GridWarning", "check_grid"]
 
 
 class GridWarning(UserWarning):
@@ -48,22 +49,6 @@ def check_grid(rod: Rod, n_cells: int, dt: float) -> None:
             f"and Courant {TESTED_COURANT[1]:g}; use dyntorsion.studies.fidelity.get('buckling', level, rod)",
             GridWarning,
             stacklevel=3,
-        )
-
-
-#: the thin-rod theory of section 2 (inextensible, unshearable: "slender structures") is a
-#: model of a rod at least this many thicknesses long; a buckling run of a thicker one is refused
-SLENDERNESS = 10.0
-
-
-def check_slender(rod: Rod) -> None:
-    """Refuse a rod too thick for the thin-rod model: thickness / L above 1 / :data:`SLENDERNESS`
-    (the thickness is the diameter D of a circle, the contact thickness of other sections)."""
-    if not rod.L >= SLENDERNESS * rod.thickness:
-        raise ValueError(
-            f"the rod's thickness {rod.thickness:g} m (D of a circle) over its length "
-            f"L={rod.L:g} m is {rod.thickness / rod.L:.3g}; allowed range (0, {1 / SLENDERNESS:g}]: "
-            f"the thin-rod theory (section 2) models rods at least {SLENDERNESS:g} thicknesses long"
         )
 
 

@@ -25,10 +25,6 @@ KINDS: dict[str, tuple[str, ...]] = {
     "onset-rules": ("dyntorsion.buckling.onset_rules:run_rules", *_SCENE),
     "onset-trace": ("dyntorsion.studies.traces:compare", *_SCENE),
     "wave-convergence": ("dyntorsion.studies.wave_convergence:convergence",),
-    "readings-scan": (
-        "dyntorsion.studies.scan_record:scan_table",
-        "dyntorsion.studies.scan_record:inputs_digest",
-    ),
     "after-onset": (
         "dyntorsion.studies.after_onset:study",
         "dyntorsion.studies.after_onset:params",

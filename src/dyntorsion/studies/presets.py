@@ -160,8 +160,8 @@ def _step_grid() -> list[Scene]:
     ]
 
 
-#: the hold-out sets of the error estimate of :func:`~dyntorsion.studies.tolerance.onset_within`
-#:: Fig 10 rates at three seeds, another rod, and rate sweeps under a tension
+#: the hold-out sets of the error estimate of :func:`~dyntorsion.studies.tolerance.onset_within`:
+#: Fig 10 rates at three seeds, another rod, and rate sweeps under a tension
 #: and a compression (fractions of the clamped Euler load).  The first set was computed
 #: with the estimate fixed beforehand; the second (rates half a step of 10^(1/6) between
 #: Fig 10's, other seeds, another rod and loads) after the chooser's rule was changed
