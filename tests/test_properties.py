@@ -192,12 +192,12 @@ def test_series_and_closed_forms_answer_or_name_the_parameter(problem, kw, s, t,
         "instant": (W.instant_release_exact, W.instant_release_dalembert),
         "smooth": (W.smooth_release_exact, W.smooth_release_dalembert),
     }[problem]
-    for fn, extra in ((fns[0], {"terms": terms}), (fns[1], {})):
+    for fn, extra in ((fns[0], lambda: {"series": W.Series(terms=terms)}), (fns[1], dict)):
         try:
-            out = fn(s, t, **kw, **args, **extra)
+            out = fn(s, t, **kw, **args, **extra())
         except (ValueError, TypeError) as err:
             event(f"{problem} {fn.__name__.split('_')[-1]}: {type(err).__name__}")
-            names_one_of(err, ["c", "L", "s", "t", "terms", "tol", "images", "t up"])
+            names_one_of(err, ["c", "L", "s", "t", "series.terms", "series.tol", "images", "t up"])
             continue
         event(f"{problem} {fn.__name__.split('_')[-1]}: result")
         assert np.all(np.isfinite(np.asarray(out, dtype=float)))
