@@ -113,7 +113,7 @@ def test_a_newton_failure_does_not_advise_a_longer_run():
 # ---------------------------------------------------------------- hangs, resources
 def test_mpmath_reference_refuses_work_beyond_its_budget():
     """The issue's line (L = 1.3, c = 50, rate 80, t = 0.037) ran 5 minutes and grew to 9.7 GB;
-    it now answers (tests/test_waves_reference.py).  A release 6e5 times faster than the rod's
+    it now answers (tests/waves/test_waves_reference.py).  A release 6e5 times faster than the rod's
     lowest frequency still cannot be summed: refused in well under a second."""
     start = time.perf_counter()
     with pytest.raises(

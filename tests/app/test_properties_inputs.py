@@ -3,7 +3,7 @@ tabulated end histories at numeric extremes agree with a direct evaluation of th
 (mpmath, 50 digits) to a relative 1e-12; an empty or blank string for any command-line option
 is refused in one line; a negative number in any notation is a value; an interrupt (SIGINT or
 SIGTERM) keeps the items an executor runs.  The hand-picked probes are in
-tests/test_faults_inputs.py."""
+tests/app/test_faults_inputs.py."""
 
 from __future__ import annotations
 

@@ -22,7 +22,7 @@ def test_every_module_imports(name):
 
 
 def test_the_layers_contract_names_every_folder_once():
-    project = tomllib.loads((Path(__file__).parents[1] / "pyproject.toml").read_text())
+    project = tomllib.loads((Path(__file__).parents[2] / "pyproject.toml").read_text())
     contracts = project["tool"]["importlinter"]["contracts"]
     (layers,) = [c["layers"] for c in contracts if c["type"] == "layers"]
     listed = [p.strip() for entry in layers for p in entry.split("|")]

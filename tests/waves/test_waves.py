@@ -257,7 +257,7 @@ def test_series_values_regression(num_regression):
 def test_fig6_numerical_kappa_pin_of_our_output(num_regression):
     """The paper's Fig 6 grid: ds = 0.01 m, dt = 0.005 s, t = 0.01 s.  A pin of our own
     output (it catches any change of the discrete solution); its error against the exact
-    solution is tested in tests/test_waves.py's convergence tests."""
+    solution is tested in tests/waves/test_waves.py's convergence tests."""
     sol = w.solve(w.SmoothRelease(10.0), n_cells=100, dt=0.005, times=[0.01])
     num_regression.check(
         {"s": sol.s[::10], "kappa": sol.kappa[0, ::10]},
