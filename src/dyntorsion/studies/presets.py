@@ -166,9 +166,9 @@ def _step_grid() -> list[Scene]:
 #: Fig 10's, other seeds, another rod and loads) after the chooser's rule was changed
 #: in view of the first ("Accuracy and cost" page); the third (rates a quarter of a step
 #: above Fig 10's, other seeds, rod and loads) after the estimate of the continuous reading
-#: was fixed (2026-11-27), to test it; the fourth (rates three quarters of a step above
+#: was fixed, to test it; the fourth (rates three quarters of a step above
 #: Fig 10's, other seeds, rod and loads) after the solver check was added to both
-#: estimates (2026-11-27, :data:`~dyntorsion.studies.tolerance.SOLVER_FACTOR`), to test that
+#: estimates (:data:`~dyntorsion.studies.tolerance.SOLVER_FACTOR`), to test that
 HALF_RATES: tuple[float, ...] = tuple(float(1.6 * 10 ** ((k + 0.5) / 6)) for k in range(-9, 6))
 QUARTER_RATES: tuple[float, ...] = tuple(float(1.6 * 10 ** ((k + 0.25) / 6)) for k in range(-9, 6))
 THREE_QUARTER_RATES: tuple[float, ...] = tuple(
