@@ -62,18 +62,12 @@ docs: paper
 ## data: recompute the cached scenes in data/scenes (Fig 10 sweeps, direct Fig 8/9 runs,
 ## grid check; linear-stability predictions); scenes already cached and current are kept.  JOBS local processes.
 JOBS ?= 2
-DATA_PRESETS := fig10 fig10-tiny-seed fig10-paced fig08-09 fig08-09-tiny-seed fig10-grid fig10-grid-tiny-seed \
-                accuracy-fig08 accuracy-fast newton-fig08 newton-fast newton-fast-tiny-seed fig08-seeds imperfection \
-                mechanisms tension start-smooth start-slow seed-lab seed-impulse start-step-grid \
-                tolerance-holdout tolerance-holdout-2 tolerance-holdout-3 tolerance-holdout-4 \
-                tolerance-reference tolerance-reference-tight tolerance-solver
-LINEAR_PRESETS := linear-fig10 linear-fig10-tiny-seed linear-imperfection linear-variants
 ## ON_STALE=error: stop at a stale record instead of recomputing it (missing ones are
 ## computed); the bench times `make data` so, with every record current
 ON_STALE ?= recompute
 data: $(VENV)/.test-installed
-	$(BIN)/dyntorsion sweep $(foreach p,$(DATA_PRESETS),--preset $(p)) --jobs $(JOBS) --no-fit --on-stale $(ON_STALE)
-	$(BIN)/dyntorsion linear $(foreach p,$(LINEAR_PRESETS),--preset $(p)) --jobs $(JOBS) --quiet --on-stale $(ON_STALE)
+	$(BIN)/dyntorsion sweep --preset all --jobs $(JOBS) --no-fit --on-stale $(ON_STALE)
+	$(BIN)/dyntorsion linear --preset all --jobs $(JOBS) --quiet --on-stale $(ON_STALE)
 	$(PY) -m dyntorsion.studies.traces --on-stale $(ON_STALE)
 	$(PY) -m dyntorsion.studies.wave_convergence --on-stale $(ON_STALE)
 	$(PY) -m dyntorsion.studies.after_onset --on-stale $(ON_STALE)

@@ -45,7 +45,7 @@ Newton counts per step of the Fig 8 scene are printed too (they do not depend on
   (straight, growing, onset, whip), residuals per step and factorisations at Newton tol
   1e-10 (the default), 1e-8 and 1e-6 and with full Newton, with the change of t_c each
   tolerance causes; and the same-grid time per step (target: half the baseline's).
-  ``tests/test_newton_counts.py`` pins the straight phase's counts; why it takes 4.7
+  ``tests/genalpha/test_newton_counts.py`` pins the straight phase's counts; why it takes 4.7
   corrections and not 1 or 2 is in its docstring and in ``benchmarks/profile_fig08.py``;
 * with ``--make-data`` (``make bench`` passes it): ``make data`` with every record current,
   one run, two processes (floor 90 s; only this checkout: it times the records, not an

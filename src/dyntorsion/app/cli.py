@@ -107,11 +107,20 @@ def _stopped(row: dict) -> str:
     return row["stopped"]
 
 
+#: the ``--preset`` value that names every preset of a command (``make data`` uses it)
+EVERY = "all"
+
+
+def _every(names: list[str], presets: dict) -> list[str]:
+    """The preset names a ``--preset`` list means: ``all`` stands for every one, in order."""
+    return list(presets) if EVERY in names else list(names)
+
+
 def _sweep_scenes(args: argparse.Namespace) -> list[Scene]:
     if args.preset:
         if args.rates:
             raise ValueError("--preset and --rates: give one of them, not both")
-        return [sc for name in args.preset for sc in preset(name)]
+        return [sc for name in _every(args.preset, PRESETS) for sc in preset(name)]
     if not args.rates:
         raise ValueError(
             "--rates or --preset: give one (e.g. --rates 0.1,0.4,1.6 or geom:0.05:16:12)"
@@ -192,7 +201,7 @@ def _sweep(args: argparse.Namespace) -> int:
 def _linear(args: argparse.Namespace) -> int:
     from ..studies import linear_predictions as LS
 
-    preds = [p for name in args.preset for p in LS.preset(name)]
+    preds = [p for name in _every(args.preset, LS.PRESETS) for p in LS.preset(name)]
     table = LS.predict(
         preds,
         args.store,
@@ -269,8 +278,8 @@ def parser() -> argparse.ArgumentParser:
     s.add_argument(
         "--preset",
         action="append",
-        choices=sorted(PRESETS),
-        help="a named sweep (repeatable); see dyntorsion.studies.presets.PRESETS",
+        choices=[*sorted(PRESETS), EVERY],
+        help="a named sweep (repeatable; 'all': every one); see dyntorsion.studies.presets.PRESETS",
     )
     s.add_argument("--rates", default=None, help="'0.1,0.4,1.6' or 'geom:LO:HI:N'")
     add_scene_options(s, kappa0=10.0)
@@ -311,8 +320,8 @@ def parser() -> argparse.ArgumentParser:
         "--preset",
         action="append",
         required=True,
-        choices=sorted(_linear_presets()),
-        help="a named set of predictions (repeatable)",
+        choices=[*sorted(_linear_presets()), EVERY],
+        help="a named set of predictions (repeatable; 'all': every one)",
     )
     lin.add_argument("--store", default=None, help=STORE_HELP)
     lin.add_argument("--jobs", type=int, default=1, help="local worker processes")

@@ -29,7 +29,7 @@ stored transposed: ``HK[b, c, q]`` multiplies v_c) gives [z_b; carried'] = HK_b^
 one product, so a solve is m^2 + nf^2 independent multiply-adds a node instead of a
 chain of dependent ones: 1.6 to 1.9 times as fast at N = 50 to 800
 (benchmarks/bench_engine.py), the same
-solution to rounding (``tests/test_abd.py``).  Building them costs about one
+solution to rounding (``tests/genalpha/test_abd.py``).  Building them costs about one
 factorisation; the simplified Newton iteration reuses its factors for tens of solves,
 so nearly every solve takes this path, while factors used a few times only (full
 Newton, step halvings) never build them.

@@ -122,7 +122,7 @@ class Newton:
         larger of the last two (theta = max(theta_k, theta_{k-1})), so the test
         needs two undamped rates: a first correction far from the solution can
         make the first rate alone tiny and the estimate too small by orders of
-        magnitude (tests/test_newton_stopping.py has such a step).
+        magnitude (tests/genalpha/test_newton_stopping.py has such a step).
     """
 
     tol: float = 1e-10

@@ -70,7 +70,7 @@ class StepControl:
     rate history has coefficient c_A = 0 in eq 11-12); for lambda_t > -1 the carried
     rate y_t^{i-1} is a time derivative, valid for any next step, and only c_M = (1 -
     alpha) / (gamma dt) changes with the step.  Variable steps keep the fixed-step order
-    (tests/test_control.py), with one exception at lambda_t = -1: the fields without a
+    (tests/buckling/test_control.py), with one exception at lambda_t = -1: the fields without a
     time derivative that act as multipliers of the constraints (the internal forces n)
     pick up a (-1)^i error at each change of step that the undamped scheme never
     damps, so they do not converge under refinement; the other fields do.

@@ -14,13 +14,14 @@ module holds
   (eq 23, solution eq 25), instantaneous release (eq 26, solution eq 27) and
   smooth release (eq 28, solution eq 29) -- as :class:`LinearLoading`,
   :class:`InstantRelease`, :class:`SmoothRelease`;
-* their exact series in NumPy (vectorised) and in mpmath (``precise=True``),
-  with a term count or a tolerance on a rigorous truncation bound; in mpmath
-  without a term count, the whole series at any parameters (:mod:`.reference`:
+* their exact series in NumPy (vectorised) and in mpmath, summed as a
+  :class:`Series` says (``Series(precise=True)``: mpmath), with a term count or a
+  tolerance on a rigorous truncation bound; in mpmath without a term count, the
+  whole series at any parameters (:mod:`.reference`:
   chi-function tails, eq 29's Duhamel integrals by one shared rule and an
   expansion by parts);
 * their closed-form d'Alembert solutions (travelling fronts with reflections),
-  in NumPy or mpmath, an independent check of the series;
+  in NumPy or mpmath (``digits=``), an independent check of the series;
 * the smooth transition functions f of Fig 5 (:class:`ExpQuartic`, the default,
   and the fully flat :class:`FlatBlend`);
 * :func:`solve`, which runs a problem on the engine.
@@ -40,6 +41,7 @@ from .checks import (
     MAX_TERMS_DUHAMEL,
     MP_BUDGET_S,
     MP_TERM_S,
+    Series,
     sqrt_lambda,
 )
 from .dalembert import instant_release_dalembert, linear_loading_dalembert, smooth_release_dalembert
@@ -81,6 +83,7 @@ __all__ = [
     "MP_BUDGET_S",
     "MP_TERM_S",
     "Problem",
+    "Series",
     "SmoothRelease",
     "Torsion",
     "Transition",

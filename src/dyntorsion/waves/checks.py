@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from dataclasses import dataclass
 
 import mpmath
 import numpy as np
@@ -23,7 +24,7 @@ DEFAULT_TOL_DUHAMEL = 1e-6
 DEFAULT_TOL_PRECISE = 1e-20
 #: default working precision (decimal digits) of the mpmath references
 DEFAULT_DIGITS = 35
-#: the mpmath references refuse work estimated above this many seconds (``budget=``)
+#: the mpmath references refuse work estimated above this many seconds (:attr:`Series.budget`)
 MP_BUDGET_S = 60.0
 #: cost at 35 digits (measured on a 2-core 2026 machine) of one series term at one point
 #: (scaled by digits / 35 above 35)
@@ -67,6 +68,58 @@ def finite_number(name: str, value) -> float:
     return v
 
 
+@dataclass(frozen=True)
+class Series:
+    """How an exact series of section 5 (eqs 25, 27, 29) is summed.
+
+    Parameters
+    ----------
+    terms : int >= 1 or None
+        Number of terms; None: as many as ``tol`` needs (NumPy) or the whole series
+        (``precise=True``).
+    tol : float > 0 or None
+        Tolerance on the truncation bound; None: :data:`DEFAULT_TOL` (eqs 25, 27),
+        :data:`DEFAULT_TOL_DUHAMEL` (eq 29) or, with ``precise=True``,
+        :data:`DEFAULT_TOL_PRECISE`.  Ignored when ``terms`` is given.
+    precise : bool
+        Sum in mpmath at ``digits`` decimal digits and return an object array of mpf;
+        False: NumPy float64.
+    digits : int >= 5
+        Working precision of ``precise=True``.
+    budget : float > 0 or None
+        ``precise=True`` refuses (:class:`~dyntorsion.genalpha.guard.BudgetError`) work
+        estimated above this many seconds; None: no limit.
+
+    Raises
+    ------
+    ValueError
+        A field out of its range, named as ``series.<field>``.
+    """
+
+    terms: int | None = None
+    tol: float | None = None
+    precise: bool = False
+    digits: int = DEFAULT_DIGITS
+    budget: float | None = MP_BUDGET_S
+
+    def __post_init__(self) -> None:
+        terms, digits = self.terms, self.digits
+        if terms is not None:
+            if isinstance(terms, bool) or not (isinstance(terms, int | np.integer) and terms >= 1):
+                raise ValueError(f"series.terms={terms!r} must be an integer >= 1 or None")
+            object.__setattr__(self, "terms", int(terms))
+        if self.tol is not None:
+            object.__setattr__(self, "tol", positive_number("series.tol", self.tol))
+        if not isinstance(self.precise, bool | np.bool_):
+            raise ValueError(f"series.precise={self.precise!r} must be True or False")
+        object.__setattr__(self, "precise", bool(self.precise))
+        if isinstance(digits, bool) or not (isinstance(digits, int | np.integer) and digits >= 5):
+            raise ValueError(f"series.digits={digits!r} must be an integer >= 5")
+        object.__setattr__(self, "digits", int(digits))
+        if self.budget is not None:
+            object.__setattr__(self, "budget", positive_number("series.budget", self.budget))
+
+
 def checked_grid(s, t, L):
     try:
         s = np.asarray(s, dtype=float)
@@ -85,23 +138,21 @@ def checked_grid(s, t, L):
 
 
 def term_count(
-    terms,
-    tol,
+    series: Series,
     needed: Callable[[float], int],
     default_tol: float = DEFAULT_TOL,
     max_terms: int = MAX_TERMS,
 ) -> int:
-    """Term count from ``terms`` or from the tolerance on the truncation bound."""
-    if terms is not None:
-        if not (isinstance(terms, int | np.integer) and terms >= 1):
-            raise ValueError(f"terms={terms!r} must be an integer >= 1")
-        return int(terms)
-    tol = default_tol if tol is None else positive_number("tol", tol)
+    """Term count of ``series``: its ``terms``, or ``needed(tol)`` for its tolerance on the
+    truncation bound (``default_tol`` when it has none); more than ``max_terms`` is refused."""
+    if series.terms is not None:
+        return series.terms
+    tol = default_tol if series.tol is None else series.tol
     n = needed(tol)
     if n > max_terms:
         raise ValueError(
-            f"tol={tol:g} needs {n} series terms (> {max_terms}); loosen tol, "
-            "pass terms=..., or use the d'Alembert solution"
+            f"series.tol={tol:g} needs {n} series terms (> {max_terms}); loosen series.tol, "
+            "pass series.terms, or use the d'Alembert solution"
         )
     return max(int(n), 1)
 
@@ -124,19 +175,18 @@ def chunked_sum(n_terms: int, term: Callable[[np.ndarray], np.ndarray], shape) -
     return out
 
 
-def check_mp_budget(units: float, unit_s: float, digits: int, budget, lower: str) -> None:
-    """Refuse (:class:`BudgetError`) an mpmath evaluation whose estimated time exceeds
-    ``budget`` seconds (None: no limit)."""
-    if not (isinstance(digits, int | np.integer) and digits >= 5):
-        raise ValueError(f"digits={digits!r} must be an integer >= 5")
-    if budget is None:
+def check_mp_budget(units: float, unit_s: float, series: Series, lower: str) -> None:
+    """Refuse (:class:`BudgetError`) an mpmath evaluation of ``units`` evaluations of
+    ``unit_s`` seconds each (at 35 digits) whose estimated time exceeds ``series.budget``
+    seconds (None: no limit)."""
+    if series.budget is None:
         return
-    budget = positive_number("budget", budget)
-    estimate = units * unit_s * max(1.0, digits / DEFAULT_DIGITS)
-    if estimate > budget:
+    estimate = units * unit_s * max(1.0, series.digits / DEFAULT_DIGITS)
+    if estimate > series.budget:
         raise BudgetError(
-            f"precise=True: about {units:.3g} mpmath evaluations, an estimated {estimate:.3g} s "
-            f"(> budget={budget:g} s); {lower}, use precise=False, or raise budget= (None: no limit)"
+            f"series.precise=True: about {units:.3g} mpmath evaluations, an estimated {estimate:.3g} s "
+            f"(> series.budget={series.budget:g} s); {lower}, use series.precise=False, or raise "
+            "series.budget (None: no limit)"
         )
 
 

@@ -7,7 +7,7 @@ import mpmath
 import numpy as np
 
 from ..genalpha.guard import BudgetError
-from .checks import DEFAULT_DIGITS, MAX_IMAGES, checked_grid, checked_scale, finite_number
+from .checks import MAX_IMAGES, checked_grid, checked_scale, finite_number
 from .transitions import DEFAULT_TRANSITION, Transition
 
 
@@ -36,10 +36,10 @@ def _images(t, s, c, L, disturbance, from_left: bool, n_max: int | None = None):
 
 def _images_mp(s, t, c, L, disturbance, from_left: bool, digits: int, period=None):
     """:func:`_images` in mpmath, point by point (object array of mpf): the check of the
-    ``precise=True`` series.  ``period``: t is first reduced modulo it (in mpmath);
+    mpmath series (``Series(precise=True)``).  ``period``: t is first reduced modulo it (in mpmath);
     ``disturbance(tau, period_shift)`` gets the retarded time and the subtracted multiple."""
     if not (isinstance(digits, int | np.integer) and digits >= 5):
-        raise ValueError(f"digits={digits!r} must be an integer >= 5")
+        raise ValueError(f"digits={digits!r} must be an integer >= 5 or None")
     k_max = int(np.max(c * (t if period is None else np.minimum(t, period)) / (2 * L))) + 1
     if (k_max + 1) * max(1, t.size) > MAX_IMAGES:
         raise BudgetError(
@@ -75,16 +75,16 @@ def linear_loading_dalembert(
     kappa0: float = 0.0,
     c: float,
     L: float,
-    precise: bool = False,
-    digits: int = DEFAULT_DIGITS,
+    digits: int | None = None,
 ):
     """Closed form of eq (23) with h = kappa0 + a t: kappa0 plus travelling ramps a (t - d/c)_+
     with reflections (same sign at the free end s = L, opposite at the driven end s = 0).
-    ``precise=True``: in mpmath at ``digits`` digits (object array of mpf)."""
+    ``digits`` (an integer >= 5): in mpmath at that many digits (object array of mpf);
+    None: NumPy float64."""
     c, L = checked_scale("c", c), checked_scale("L", L)
     a, kappa0 = finite_number("a", a), finite_number("kappa0", kappa0)
     s, t = checked_grid(s, t, L)
-    if precise:
+    if digits is not None:
         ma = mpmath.mpf(a)
         parts = _images_mp(s, t, c, L, lambda tau: ma * max(tau, 0), True, digits, period=4 * L / c)
         return _finish(parts, lambda v, shift: kappa0 + ma * shift + v, digits)
@@ -95,14 +95,15 @@ def linear_loading_dalembert(
 
 
 def instant_release_dalembert(
-    s, t, *, kappa0: float, c: float, L: float, precise: bool = False, digits: int = DEFAULT_DIGITS
+    s, t, *, kappa0: float, c: float, L: float, digits: int | None = None
 ):
     """Closed form of eq (26): kappa0 minus travelling steps; on a front the mean of both sides.
-    ``precise=True``: in mpmath at ``digits`` digits (object array of mpf)."""
+    ``digits`` (an integer >= 5): in mpmath at that many digits (object array of mpf);
+    None: NumPy float64."""
     c, L = checked_scale("c", c), checked_scale("L", L)
     kappa0 = finite_number("kappa0", kappa0)
     s, t = checked_grid(s, t, L)
-    if precise:
+    if digits is not None:
         mk = mpmath.mpf(kappa0)
 
         def step(tau):
@@ -124,14 +125,14 @@ def smooth_release_dalembert(
     L: float,
     rate: float = 50.0,
     f: Transition = DEFAULT_TRANSITION,
-    precise: bool = False,
-    digits: int = DEFAULT_DIGITS,
+    digits: int | None = None,
 ):
     """Closed form of eq (28): kappa0 + travelling copies of kappa0 (f(rate t) - 1).
-    ``precise=True``: in mpmath at ``digits`` digits (object array of mpf)."""
+    ``digits`` (an integer >= 5): in mpmath at that many digits (object array of mpf);
+    None: NumPy float64."""
     c, L = checked_scale("c", c), checked_scale("L", L)
     s, t = checked_grid(s, t, L)
-    if precise:
+    if digits is not None:
         mk, mr = mpmath.mpf(kappa0), mpmath.mpf(rate)
         parts = _images_mp(s, t, c, L, lambda tau: mk * (f.mp(mr * tau) - 1), False, digits)
         return _finish(parts, lambda v, shift: mk + v, digits)

@@ -11,7 +11,7 @@ import numpy as np
 
 from ..genalpha import Boundary, Grid, Newton, Output, Run, Scheme, System, integrate
 from ..model.rod import Rod
-from .checks import positive_number
+from .checks import Series, positive_number
 from .dalembert import instant_release_dalembert, linear_loading_dalembert, smooth_release_dalembert
 from .series import instant_release_exact, linear_loading_exact, smooth_release_exact
 from .torsion import Torsion
@@ -29,8 +29,9 @@ class LinearLoading:
         left = Boundary.fields(system, ["k3"], lambda t: (self.kappa0 + self.a * t)[:, None])
         return left, Boundary.fields(system, ["w3"])
 
-    def exact(self, s, t, *, c, L, **kw):
-        return linear_loading_exact(s, t, a=self.a, kappa0=self.kappa0, c=c, L=L, **kw)
+    def exact(self, s, t, *, c, L, series: Series = Series()):
+        """Eq (25) at (s, t) (:func:`linear_loading_exact`), summed as ``series`` says."""
+        return linear_loading_exact(s, t, a=self.a, kappa0=self.kappa0, c=c, L=L, series=series)
 
     def dalembert(self, s, t, *, c, L):
         return linear_loading_dalembert(s, t, a=self.a, kappa0=self.kappa0, c=c, L=L)
@@ -45,8 +46,9 @@ class InstantRelease:
     def boundaries(self, system: System) -> tuple[Boundary, Boundary]:
         return Boundary.fields(system, ["w3"]), Boundary.fields(system, ["k3"])
 
-    def exact(self, s, t, *, c, L, **kw):
-        return instant_release_exact(s, t, kappa0=self.kappa0, c=c, L=L, **kw)
+    def exact(self, s, t, *, c, L, series: Series = Series()):
+        """Eq (27) at (s, t) (:func:`instant_release_exact`), summed as ``series`` says."""
+        return instant_release_exact(s, t, kappa0=self.kappa0, c=c, L=L, series=series)
 
     def dalembert(self, s, t, *, c, L):
         return instant_release_dalembert(s, t, kappa0=self.kappa0, c=c, L=L)
@@ -66,9 +68,10 @@ class SmoothRelease:
         )
         return Boundary.fields(system, ["w3"]), right
 
-    def exact(self, s, t, *, c, L, **kw):
+    def exact(self, s, t, *, c, L, series: Series = Series()):
+        """Eq (29) at (s, t) (:func:`smooth_release_exact`), summed as ``series`` says."""
         return smooth_release_exact(
-            s, t, kappa0=self.kappa0, c=c, L=L, rate=self.rate, f=self.f, **kw
+            s, t, kappa0=self.kappa0, c=c, L=L, rate=self.rate, f=self.f, series=series
         )
 
     def dalembert(self, s, t, *, c, L):
@@ -92,13 +95,14 @@ class WaveSolution:
     omega: np.ndarray
     run: Run
 
-    def exact(self, kind: str = "dalembert", **kw) -> np.ndarray:
-        """The exact kappa at the same (s, t): ``"dalembert"`` (closed form) or ``"series"``."""
+    def exact(self, kind: str = "dalembert", series: Series = Series()) -> np.ndarray:
+        """The exact kappa at the same (s, t): ``"dalembert"`` (closed form) or ``"series"``
+        (summed as ``series`` says)."""
         ss, tt = np.meshgrid(self.s, self.t)
         if kind == "dalembert":
             return self.problem.dalembert(ss, tt, c=self.rod.c, L=self.rod.L)
         if kind == "series":
-            return self.problem.exact(ss, tt, c=self.rod.c, L=self.rod.L, **kw)
+            return self.problem.exact(ss, tt, c=self.rod.c, L=self.rod.L, series=series)
         raise ValueError(f"kind={kind!r}; allowed: 'dalembert', 'series'")
 
     def errors(self, reference: np.ndarray | None = None) -> dict[str, np.ndarray]:
@@ -121,12 +125,14 @@ def solve(
     times: Sequence[float] | float,
     lam_t: float = -1.0,
     lam_s: float = -1.0,
-    quadrature: str = "trapezoidal",
     newton: Newton = Newton(),
 ) -> WaveSolution:
-    """Run a wave problem on the generalised-alpha engine with the 2-field model.
+    """Run a wave problem on the generalised-alpha engine with the 2-field model (eq 22).
 
-    ``times`` must be multiples of ``dt``; the run ends at the last of them.
+    ``times`` must be multiples of ``dt``; the run ends at the last of them.  ``lam_t``
+    and ``lam_s`` are the spectral radii at infinity of eq (13).  The model has no load
+    vector, so the load quadrature of eq (9) has nothing to act on: the run uses the
+    paper's trapezoidal rule.
     """
     rod = Rod.paper() if rod is None else rod
     times_arr = np.atleast_1d(np.asarray(times, dtype=float))
@@ -143,7 +149,7 @@ def solve(
         raise ValueError(f"n_cells={n_cells!r} must be an integer >= 2")
     y0 = np.zeros((n_cells + 1, 2))
     y0[:, 0] = problem.kappa0
-    scheme = Scheme(lam_s=lam_s, lam_t=lam_t, quadrature=quadrature)
+    scheme = Scheme(lam_s=lam_s, lam_t=lam_t)
     run = integrate(
         system,
         Grid(int(n_cells), rod.L, dt, float(times_arr.max())),

@@ -177,7 +177,7 @@ def smooth_release_plan(
     if alpha == 0:
         return SmoothPlan(1, 0, X, _panels(1, Omega, max(Ts), rate), 0.0, cost(1, 0))
     if top < 1:
-        raise ValueError(f"{f.name}: a tolerance needs f'''; pass terms=...")
+        raise ValueError(f"{f.name}: a tolerance needs f'''; pass series.terms")
     log_J = _log_abs_integrals(f, rate * max(Ts), rate, top)
     best = None
     for M in range(1, top + 1):
@@ -205,7 +205,8 @@ def smooth_release_plan(
 
 def refusal(plan: SmoothPlan, replan, release: Release, tol, budget, terms) -> str:
     """The budget error of eq (29): the plan's cost, and what would make it possible
-    (``replan(tol=...)`` the plan at another tolerance)."""
+    (``replan(tol=...)`` the plan at another tolerance; ``tol``, ``budget`` and ``terms``
+    the fields of the caller's :class:`~dyntorsion.waves.checks.Series`)."""
     c, L, rate, _, f = release
     Omega = math.pi * c / (2 * L)
     fits = None
@@ -228,12 +229,12 @@ def refusal(plan: SmoothPlan, replan, release: Release, tol, budget, terms) -> s
             "abs_derivative_integrals) would allow a higher-order tail and far fewer terms"
         )
     return (
-        f"precise=True: eq (29) needs {plan.terms} exact terms on a rule of "
+        f"series.precise=True: eq (29) needs {plan.terms} exact terms on a rule of "
         f"{plan.panels * NODES_PER_PANEL} nodes and {plan.order} orders of the tail, an "
-        f"estimated {plan.seconds:.3g} s (> budget={budget:g} s): {why}. "
-        + (f"tol={fits:g} fits the budget; " if fits else "")
-        + "pass fewer distinct times or points, raise budget= (None: no limit), use "
-        "precise=False, or use smooth_release_dalembert(precise=True)"
+        f"estimated {plan.seconds:.3g} s (> series.budget={budget:g} s): {why}. "
+        + (f"series.tol={fits:g} fits the budget; " if fits else "")
+        + "pass fewer distinct times or points, raise series.budget (None: no limit), use "
+        "series.precise=False, or use smooth_release_dalembert(digits=...)"
     )
 
 
@@ -267,8 +268,10 @@ def _shared_fourier(f: Transition, rate, Omega, T, N: int, panels: int) -> list:
     return out
 
 
-def smooth_release_sums(s, t, *, kappa0, c, L, rate, f: Transition, plan: SmoothPlan) -> np.ndarray:
-    """Eq (29) at the points (s, t) (float arrays) by ``plan``: object array of mpf."""
+def smooth_release_sums(s, t, release: Release, *, plan: SmoothPlan) -> np.ndarray:
+    """Eq (29) of the :class:`Release` ``release`` at the points (s, t) (float arrays) by
+    ``plan``: object array of mpf."""
+    c, L, rate, kappa0, f = release
     mc, mL, mr, mk = (mpmath.mpf(v) for v in (c, L, rate, kappa0))
     Omega = mpmath.pi * mc / (2 * mL)
     alpha = 8 * mr**2 * mk * mL / (mc * mpmath.pi**2)

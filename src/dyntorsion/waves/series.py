@@ -12,21 +12,19 @@ import numpy as np
 from ..genalpha.guard import BudgetError
 from . import reference
 from .checks import (
-    DEFAULT_DIGITS,
     DEFAULT_TOL_DUHAMEL,
     DEFAULT_TOL_PRECISE,
     MAX_DUHAMEL_WORK,
     MAX_TERMS,
     MAX_TERMS_DUHAMEL,
-    MP_BUDGET_S,
     MP_TERM_S,
+    Series,
     check_mp_budget,
     checked_grid,
     checked_scale,
     chunked_sum,
     finite_number,
     mp_array,
-    positive_number,
     sqrt_lambda,
     term_count,
 )
@@ -60,23 +58,20 @@ def linear_loading_exact(
     kappa0: float = 0.0,
     c: float,
     L: float,
-    terms: int | None = None,
-    tol: float | None = None,
-    precise: bool = False,
-    digits: int = DEFAULT_DIGITS,
-    budget: float | None = MP_BUDGET_S,
+    series: Series = Series(),
 ) -> np.ndarray:
     """Eq (25): kappa(s, t) for kappa(0, t) = kappa0 + a t, kappa_s(L, t) = 0 (eq 23).
 
         kappa = kappa0 + a t - sum_n 2a / (L c lambda_n) sin(c sqrt(lambda_n) t) sin(sqrt(lambda_n) s)
 
-    ``terms`` fixes the number of terms; otherwise enough are taken for the
-    bound :func:`linear_loading_bound` (pointwise where it is smaller) to be below
-    ``tol``.
-    ``precise=True`` sums in mpmath at ``digits`` digits and returns an object
-    array of mpf: without ``terms`` the whole series, in closed form by Legendre's chi
-    function (:mod:`.reference`; ``tol`` is then met to working precision); it refuses (:class:`BudgetError`) work estimated above ``budget``
-    seconds.
+    ``series`` (:class:`Series`) says how it is summed: ``series.terms`` fixes the
+    number of terms; otherwise enough are taken for the bound
+    :func:`linear_loading_bound` (pointwise where it is smaller) to be below
+    ``series.tol``.  ``series.precise`` sums in mpmath at ``series.digits`` digits and
+    returns an object array of mpf: without ``series.terms`` the whole series, in closed
+    form by Legendre's chi function (:mod:`.reference`; the tolerance is then met to
+    working precision); it refuses (:class:`BudgetError`) work estimated above
+    ``series.budget`` seconds.
     """
     c, L = checked_scale("c", c), checked_scale("L", L)
     a, kappa0 = finite_number("a", a), finite_number("kappa0", kappa0)
@@ -95,21 +90,19 @@ def linear_loading_exact(
         root = math.sqrt(8 * abs(a) * L * inv / (c * math.pi**2 * tol)) if inv < math.inf else inv
         return min(uniform, math.ceil((root - 1) / 2) if math.isfinite(root) else uniform)
 
-    if precise and terms is None:  # the whole series, summed in closed form
-        if tol is not None:
-            positive_number("tol", tol)
-        check_mp_budget(4 * s.size, reference.POLYLOG_S, digits, budget, "pass fewer points")
+    if series.precise and series.terms is None:  # the whole series, summed in closed form
+        check_mp_budget(4 * s.size, reference.POLYLOG_S, series, "pass fewer points")
         return mp_array(
             lambda si, ti: reference.linear_loading_sum(
                 si, ti, a=mpmath.mpf(a), kappa0=mpmath.mpf(kappa0), c=mpmath.mpf(c), L=mpmath.mpf(L)
             ),
             s,
             t,
-            digits,
+            series.digits,
         )
-    n_terms = term_count(terms, tol, needed)
-    if precise:
-        check_mp_budget(n_terms * s.size, MP_TERM_S, digits, budget, "pass fewer points or terms")
+    n_terms = term_count(series, needed)
+    if series.precise:
+        check_mp_budget(n_terms * s.size, MP_TERM_S, series, "pass fewer points or terms")
 
         def point(si, ti):
             mL, mc, ma = mpmath.mpf(L), mpmath.mpf(c), mpmath.mpf(a)
@@ -119,7 +112,7 @@ def linear_loading_exact(
                 total -= 2 * ma / (mL * mc * k**2) * mpmath.sin(mc * k * ti) * mpmath.sin(k * si)
             return total
 
-        return mp_array(point, s, t, digits)
+        return mp_array(point, s, t, series.digits)
 
     def term(n):
         k = sqrt_lambda(n, L)
@@ -152,21 +145,18 @@ def instant_release_exact(
     kappa0: float,
     c: float,
     L: float,
-    terms: int | None = None,
-    tol: float | None = None,
-    precise: bool = False,
-    digits: int = DEFAULT_DIGITS,
-    budget: float | None = MP_BUDGET_S,
+    series: Series = Series(),
 ) -> np.ndarray:
     """Eq (27): kappa(s, t) after the twist kappa0 is released at t = 0 (eq 26).
 
         kappa = sum_n 2 kappa0 / (L sqrt(lambda_n)) (-1)^(n-1) cos(c sqrt(lambda_n) t) cos(sqrt(lambda_n) s)
 
-    With ``tol`` the term count comes from the pointwise bound
-    :func:`instant_release_bound` at the worst of the given points (points on a
-    front cannot be served; pass ``terms`` or use :func:`instant_release_dalembert`).
-    ``precise=True`` without ``terms``: the whole series in mpmath, in closed form by
-    Legendre's chi function (:mod:`.reference`); on a front the mean of both sides.
+    ``series`` (:class:`Series`) says how it is summed.  Without ``series.terms`` the
+    term count comes from the pointwise bound :func:`instant_release_bound` at the worst
+    of the given points and ``series.tol`` (points on a front cannot be served; pass
+    ``series.terms`` or use :func:`instant_release_dalembert`).  ``series.precise``
+    without ``series.terms``: the whole series in mpmath, in closed form by Legendre's
+    chi function (:mod:`.reference`); on a front the mean of both sides.
     """
     c, L = checked_scale("c", c), checked_scale("L", L)
     kappa0 = finite_number("kappa0", kappa0)
@@ -179,21 +169,19 @@ def instant_release_exact(
             return MAX_TERMS + 1
         return math.ceil((C / tol - 1) / 2)
 
-    if precise and terms is None:  # the whole series, summed in closed form
-        if tol is not None:
-            positive_number("tol", tol)
-        check_mp_budget(s.size, reference.POLYLOG_S, digits, budget, "pass fewer points")
+    if series.precise and series.terms is None:  # the whole series, summed in closed form
+        check_mp_budget(s.size, reference.POLYLOG_S, series, "pass fewer points")
         return mp_array(
             lambda si, ti: reference.instant_release_sum(
                 si, ti, kappa0=mpmath.mpf(kappa0), c=mpmath.mpf(c), L=mpmath.mpf(L)
             ),
             s,
             t,
-            digits,
+            series.digits,
         )
-    n_terms = term_count(terms, tol, needed)
-    if precise:
-        check_mp_budget(n_terms * s.size, MP_TERM_S, digits, budget, "pass fewer points or terms")
+    n_terms = term_count(series, needed)
+    if series.precise:
+        check_mp_budget(n_terms * s.size, MP_TERM_S, series, "pass fewer points or terms")
 
         def point(si, ti):
             mL, mc = mpmath.mpf(L), mpmath.mpf(c)
@@ -210,7 +198,7 @@ def instant_release_exact(
                 )
             return total
 
-        return mp_array(point, s, t, digits)
+        return mp_array(point, s, t, series.digits)
 
     def term(n):
         k = sqrt_lambda(n, L)
@@ -232,8 +220,8 @@ def _duhamel_np(t: float, n_terms: int, f: Transition, rate: float, c: float, L:
     if 20.0 * panels > MAX_DUHAMEL_WORK / 100 or 20.0 * panels * n_terms > MAX_DUHAMEL_WORK:
         raise BudgetError(
             f"t={t:.4g} s: the Duhamel integrals need {panels:.3g} panels x {n_terms} terms "
-            f"(> {MAX_DUHAMEL_WORK:.3g} evaluations); pass earlier times, fewer terms or a "
-            "looser tol (or use smooth_release_dalembert)"
+            f"(> {MAX_DUHAMEL_WORK:.3g} evaluations); pass earlier times, fewer series.terms or a "
+            "looser series.tol (or use smooth_release_dalembert)"
         )
     xg, wg = np.polynomial.legendre.leggauss(20)
     edges = np.linspace(0.0, t, panels + 1)
@@ -304,11 +292,7 @@ def smooth_release_exact(
     L: float,
     rate: float = 50.0,
     f: Transition = DEFAULT_TRANSITION,
-    terms: int | None = None,
-    tol: float | None = None,
-    precise: bool = False,
-    digits: int = DEFAULT_DIGITS,
-    budget: float | None = MP_BUDGET_S,
+    series: Series = Series(),
 ) -> np.ndarray:
     """Eq (29): kappa(s, t) for kappa(L, t) = kappa0 f(rate t), kappa_s(0, t) = 0 (eq 28).
 
@@ -317,13 +301,15 @@ def smooth_release_exact(
 
     (for rate = 50 the factor 2 rate^2 is the paper's 5000).  The Duhamel
     integrals are evaluated by composite Gauss-Legendre quadrature, not by a Riemann
-    sum.  NumPy: with ``tol`` (default 1e-6: each term costs a quadrature) the term
-    count comes from :func:`smooth_release_bound` (needs f''').  ``precise=True``
-    without ``terms``: the whole series in mpmath to ``tol`` (default
-    DEFAULT_TOL_PRECISE), the first N integrals by one shared rule and the rest by an
-    expansion by parts with a bounded remainder (:mod:`.reference`); with ``terms`` the
-    first ``terms`` terms.  It refuses (:class:`BudgetError`) work estimated above
-    ``budget`` seconds, saying what would make it possible.
+    sum.  ``series`` (:class:`Series`) says how it is summed.  NumPy: without
+    ``series.terms`` the term count comes from :func:`smooth_release_bound` (needs f''')
+    and ``series.tol`` (default DEFAULT_TOL_DUHAMEL: each term costs a quadrature).
+    ``series.precise`` without ``series.terms``: the whole series in mpmath to
+    ``series.tol`` (default DEFAULT_TOL_PRECISE), the first N integrals by one shared
+    rule and the rest by an expansion by parts with a bounded remainder
+    (:mod:`.reference`); with ``series.terms`` the first that many terms.  It refuses
+    (:class:`BudgetError`) work estimated above ``series.budget`` seconds, saying what
+    would make it possible.
     """
     c, L = checked_scale("c", c), checked_scale("L", L)
     rate = checked_scale("rate", rate)
@@ -334,15 +320,15 @@ def smooth_release_exact(
 
     def needed(tol):
         if f.max_order < 3:
-            raise ValueError(f"{f.name}: a tolerance needs f'''; pass terms=...")
+            raise ValueError(f"{f.name}: a tolerance needs f'''; pass series.terms")
         worst = float(
             np.max(smooth_release_bound(1, np.unique(t), kappa0=kappa0, c=c, L=L, rate=rate, f=f))
         )
         return math.ceil((math.sqrt(worst / tol) + 1) / 2)
 
-    if precise:
-        return _smooth_release_precise(s, t, kappa0, c, L, rate, f, terms, tol, digits, budget)
-    n_terms = term_count(terms, tol, needed, DEFAULT_TOL_DUHAMEL, MAX_TERMS_DUHAMEL)
+    if series.precise:
+        return _smooth_release_precise(s, t, reference.Release(c, L, rate, kappa0, f), series)
+    n_terms = term_count(series, needed, DEFAULT_TOL_DUHAMEL, MAX_TERMS_DUHAMEL)
     coef_n = np.arange(1, n_terms + 1)
     k = sqrt_lambda(coef_n, L)
     sign = np.where(coef_n % 2 == 0, 1.0, -1.0)
@@ -356,29 +342,24 @@ def smooth_release_exact(
     return out.reshape(s.shape)
 
 
-def _smooth_release_precise(s, t, kappa0, c, L, rate, f, terms, tol, digits, budget):
+def _smooth_release_precise(s, t, release: reference.Release, series: Series) -> np.ndarray:
     """Eq (29) in mpmath: the first N terms exactly, the rest by the expansion by parts
-    (:mod:`.reference`), to ``tol`` (default DEFAULT_TOL_PRECISE, or 10^-(digits - 5) if
-    that is larger: no more than the precision can hold); ``terms=N`` truncates."""
-    check_mp_budget(0, 0.0, digits, None, "")
-    if terms is not None:
-        term_count(terms, None, lambda tol: 1)
+    (:mod:`.reference`), to ``series.tol`` (default DEFAULT_TOL_PRECISE, or
+    10^-(digits - 5) if that is larger: no more than the precision can hold);
+    ``series.terms`` truncates."""
+    digits, budget, tol = series.digits, series.budget, series.tol
     if tol is None:
-        tol = max(DEFAULT_TOL_PRECISE, 10.0 ** -(int(digits) - 5))
-    tol = positive_number("tol", tol)
+        tol = max(DEFAULT_TOL_PRECISE, 10.0 ** -(digits - 5))
     times = np.unique(t)
     with mpmath.workdps(digits + 10):
-        release = reference.Release(c, L, rate, kappa0, f)
         plan = reference.smooth_release_plan(
-            times, s.size, release, tol=tol, digits=digits, terms=terms
+            times, s.size, release, tol=tol, digits=digits, terms=series.terms
         )
-        if budget is not None and plan.seconds > positive_number("budget", budget):
+        if budget is not None and plan.seconds > budget:
             replan = functools.partial(
                 reference.smooth_release_plan, times, s.size, release, digits=digits
             )
-            raise BudgetError(reference.refusal(plan, replan, release, tol, budget, terms))
-        out = reference.smooth_release_sums(
-            s, t, kappa0=kappa0, c=c, L=L, rate=rate, f=f, plan=plan
-        )
+            raise BudgetError(reference.refusal(plan, replan, release, tol, budget, series.terms))
+        out = reference.smooth_release_sums(s, t, release, plan=plan)
     with mpmath.workdps(digits):
         return np.vectorize(lambda v: +v, otypes=[object])(out)

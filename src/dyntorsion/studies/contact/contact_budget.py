@@ -2,7 +2,7 @@
 small rod through contact: which part of an energy residual is the load vector's
 quadrature, the scheme's damping, or the contact's work.
 
-PyElastica's plectoneme rod (tests/test_contact_runs.py) turned 3 turns in 4 s on 30
+PyElastica's plectoneme rod (tests/studies/test_contact_runs.py) turned 3 turns in 4 s on 30
 cells, a stiff penalty (k = 1e7 N/m^2), with and without viscous damping (2 N s/m^2 and
 2 N s), lambda_inf = -0.8 and -1 in time, and the two quadratures of the load vector:
 the trapezoidal mean of the corners (eq 9, the paper's) and the midpoint rule, where

@@ -69,21 +69,20 @@ def one(name: str) -> dict:
     from ...store.environment import numerical_environment
 
     if name == "a16-first-contact-N400":
-        import contact_convergence as cc
+        from . import contact_convergence as cc
 
         res = cc.grid_run(400, 2.5e-4)
     elif name in ("a16-past-N400", "a16-past-N800"):
-        import contact_convergence as cc
+        from . import contact_convergence as cc
 
         res = cc.past_run(400 if name.endswith("400") else 800, -0.8, 3.3, "time")["result"]
     elif name == "pyelastica-scene-N100-20s":
-        import plectoneme_matched as pm
-
         from . import plectoneme_dyntorsion as dyn
+        from . import plectoneme_scene as pm
 
         res = run_contact_scene(dyn.contact_scene(100, pm.DYN_DT), pm.T_STAR).result()
     elif name == "fig07-continued-N800":
-        import fig07_continued as f7
+        from . import fig07_continued as f7
 
         res = run_contact_scene(f7.contact_scene(800, -0.8, 17.6)).result()
     else:

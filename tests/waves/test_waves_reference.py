@@ -46,13 +46,19 @@ def max_diff(a, b) -> float:
 def test_eq25_and_eq27_whole_series_match_dalembert_to_1e_12(p):
     geo = {"c": p["c"], "L": p["L"]}
     start = time.perf_counter()
-    lin = w.linear_loading_exact(p["s"], p["t"], a=p["a"], kappa0=p["kappa0"], precise=True, **geo)
-    rel = w.instant_release_exact(p["s"], p["t"], kappa0=p["kappa0"], precise=True, **geo)
+    lin = w.linear_loading_exact(
+        p["s"], p["t"], a=p["a"], kappa0=p["kappa0"], series=w.Series(precise=True), **geo
+    )
+    rel = w.instant_release_exact(
+        p["s"], p["t"], kappa0=p["kappa0"], series=w.Series(precise=True), **geo
+    )
     assert time.perf_counter() - start < 60
     lin_d = w.linear_loading_dalembert(
-        p["s"], p["t"], a=p["a"], kappa0=p["kappa0"], precise=True, **geo
+        p["s"], p["t"], a=p["a"], kappa0=p["kappa0"], digits=w.DEFAULT_DIGITS, **geo
     )
-    rel_d = w.instant_release_dalembert(p["s"], p["t"], kappa0=p["kappa0"], precise=True, **geo)
+    rel_d = w.instant_release_dalembert(
+        p["s"], p["t"], kappa0=p["kappa0"], digits=w.DEFAULT_DIGITS, **geo
+    )
     assert isinstance(lin[0], mpmath.mpf)
     assert max_diff(lin, lin_d) < 1e-12
     assert max_diff(rel, rel_d) < 1e-12
@@ -62,9 +68,9 @@ def test_eq25_and_eq27_whole_series_match_dalembert_to_1e_12(p):
 def test_eq29_whole_series_matches_dalembert_to_1e_12(p):
     kw = {"kappa0": p["kappa0"], "c": p["c"], "L": p["L"], "rate": p["rate"]}
     start = time.perf_counter()
-    series = w.smooth_release_exact(p["s"], p["t"], precise=True, **kw)
+    series = w.smooth_release_exact(p["s"], p["t"], series=w.Series(precise=True), **kw)
     assert time.perf_counter() - start < 60  # within the default budget, which it is held to
-    closed = w.smooth_release_dalembert(p["s"], p["t"], precise=True, **kw)
+    closed = w.smooth_release_dalembert(p["s"], p["t"], digits=w.DEFAULT_DIGITS, **kw)
     assert max_diff(series, closed) < 1e-12
 
 
@@ -72,9 +78,11 @@ def test_eq29_error_is_within_the_requested_tolerance():
     """The tolerance is met, not just 1e-12: a loose one and the default 1e-20."""
     p = unseen(7)
     kw = {"kappa0": p["kappa0"], "c": p["c"], "L": p["L"], "rate": p["rate"]}
-    closed = w.smooth_release_dalembert(p["s"], p["t"], precise=True, digits=45, **kw)
+    closed = w.smooth_release_dalembert(p["s"], p["t"], digits=45, **kw)
     for tol in (1e-8, None):
-        series = w.smooth_release_exact(p["s"], p["t"], precise=True, tol=tol, **kw)
+        series = w.smooth_release_exact(
+            p["s"], p["t"], series=w.Series(precise=True, tol=tol), **kw
+        )
         assert max_diff(series, closed) < (tol or w.DEFAULT_TOL_PRECISE)
 
 
@@ -84,9 +92,9 @@ def test_eq29_during_the_release_and_several_times():
     kw = {"kappa0": p["kappa0"], "c": p["c"], "L": p["L"], "rate": p["rate"]}
     s = np.array([[0.1 * p["L"]], [0.8 * p["L"]]])
     t = np.array([[0.3 / p["rate"], 1.5 / p["rate"], 5.0 / p["rate"]]])
-    series = w.smooth_release_exact(s, t, precise=True, tol=1e-14, **kw)
+    series = w.smooth_release_exact(s, t, series=w.Series(precise=True, tol=1e-14), **kw)
     assert series.shape == (2, 3)
-    assert max_diff(series, w.smooth_release_dalembert(s, t, precise=True, **kw)) < 1e-14
+    assert max_diff(series, w.smooth_release_dalembert(s, t, digits=w.DEFAULT_DIGITS, **kw)) < 1e-14
 
 
 def test_chi_tails_match_direct_summation():
@@ -102,26 +110,28 @@ def test_chi_tails_match_direct_summation():
 
 
 def test_a_truncation_is_still_a_truncation():
-    """terms=N sums N terms (the shared rule), as the NumPy series does."""
+    """Series(terms=N) sums N terms (the shared rule), as the NumPy series does."""
     s = np.array([0.2, 0.9])
     p = EXAMPLE
     kw = {"kappa0": p["kappa0"], "c": p["c"], "L": p["L"], "rate": p["rate"]}
-    ref = w.smooth_release_exact(s, p["t"], terms=30, precise=True, **kw)
+    ref = w.smooth_release_exact(s, p["t"], series=w.Series(terms=30, precise=True), **kw)
     np.testing.assert_allclose(
-        ref.astype(float), w.smooth_release_exact(s, p["t"], terms=30, **kw), rtol=0, atol=1e-12
+        ref.astype(float),
+        w.smooth_release_exact(s, p["t"], series=w.Series(terms=30), **kw),
+        rtol=0,
+        atol=1e-12,
     )
 
 
 def test_what_cannot_be_done_is_refused_with_what_would_make_it_possible():
     """A release 6e5 times faster than the rod's lowest frequency: ~2e7 exact terms."""
     start = time.perf_counter()
-    with pytest.raises(BudgetError, match=r"estimated .* s \(> budget=60 s\)") as err:
-        w.smooth_release_exact(
-            np.array([0.5]), 0.03, kappa0=10.0, c=1.0, L=10.0, rate=1e5, precise=True
-        )
+    with pytest.raises(BudgetError, match=r"estimated .* s \(> series.budget=60 s\)") as err:
+        fast = {"kappa0": 10.0, "c": 1.0, "L": 10.0, "rate": 1e5}
+        w.smooth_release_exact(np.array([0.5]), 0.03, series=w.Series(precise=True), **fast)
     assert time.perf_counter() - start < 5
     msg = str(err.value)
-    assert "rate / Omega = 6.37e+05" in msg and "raise budget=" in msg
+    assert "rate / Omega = 6.37e+05" in msg and "raise series.budget" in msg
 
 
 @pytest.mark.parametrize("width", [1.3, 0.4])
@@ -131,8 +141,10 @@ def test_flat_blend_whole_series(width):
     f = w.FlatBlend(width)
     s = np.array([0.0, 0.3, 0.9, 1.0])
     kw = {"kappa0": 10.0, "c": 57.74, "L": 1.0, "f": f}
-    series = w.smooth_release_exact(s, 0.01, precise=True, tol=1e-12, **kw)
-    assert max_diff(series, w.smooth_release_dalembert(s, 0.01, precise=True, **kw)) < 1e-12
+    series = w.smooth_release_exact(s, 0.01, series=w.Series(precise=True, tol=1e-12), **kw)
+    assert (
+        max_diff(series, w.smooth_release_dalembert(s, 0.01, digits=w.DEFAULT_DIGITS, **kw)) < 1e-12
+    )
     with mpmath.workdps(40):
         x = mpmath.mpf(0.37) * width
         exact = f.mp_taylor(x, 8)
@@ -179,19 +191,25 @@ def test_a_transition_without_a_known_support_integrates_to_t():
     custom = w.CustomTransition(fs, mps)
     s = np.array([0.2, 0.7])
     kw = {"kappa0": 1.0, "c": 57.74, "L": 1.0, "f": custom}
-    series = w.smooth_release_exact(s, 0.01, precise=True, tol=1e-6, **kw)
-    assert max_diff(series, w.smooth_release_dalembert(s, 0.01, precise=True, **kw)) < 1e-6
+    series = w.smooth_release_exact(s, 0.01, series=w.Series(precise=True, tol=1e-6), **kw)
+    assert (
+        max_diff(series, w.smooth_release_dalembert(s, 0.01, digits=w.DEFAULT_DIGITS, **kw)) < 1e-6
+    )
     with pytest.raises(BudgetError, match=r"no known support.*order 3.*tol=1e-07 fits"):
-        w.smooth_release_exact(s, 0.01, precise=True, tol=1e-8, **kw)
+        w.smooth_release_exact(s, 0.01, series=w.Series(precise=True, tol=1e-8), **kw)
 
 
 def test_eq29_meets_a_tolerance_below_the_default_at_more_digits():
     """50 digits, tol = 1e-30 (the issue's parameters): the difference is below 1e-30."""
     s = np.array([0.4, 1.1])
     kw = {k: EXAMPLE[k] for k in ("kappa0", "c", "L", "rate")}
-    series = w.smooth_release_exact(s, 0.02, precise=True, digits=50, tol=1e-30, **kw)
-    closed = w.smooth_release_dalembert(s, 0.02, precise=True, digits=50, **kw)
+    series = w.smooth_release_exact(
+        s, 0.02, series=w.Series(precise=True, digits=50, tol=1e-30), **kw
+    )
+    closed = w.smooth_release_dalembert(s, 0.02, digits=50, **kw)
     with mpmath.workdps(50):
         assert max_diff(series, closed) < 1e-30
-    low = w.smooth_release_exact(s, 0.02, precise=True, digits=12, **kw)  # default tol 1e-7
+    low = w.smooth_release_exact(
+        s, 0.02, series=w.Series(precise=True, digits=12), **kw
+    )  # default tol 1e-7
     assert max_diff(low, closed) < 1e-7

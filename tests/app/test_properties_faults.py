@@ -3,7 +3,7 @@ input, drawn by hypothesis rather than picked by hand, gets its answer (a signal
 a run cleanly, a lease is judged, a run that cannot see its growth says so, a dropped
 argument is refused, a run past the budget is refused before it starts, a damaged record
 is moved aside, a bad history is named before the run).  The hand-picked cases that first
-showed each fault are in tests/test_faults.py, test_faults_store.py and test_interrupt.py."""
+showed each fault are in tests/app/test_faults.py, test_faults_store.py and test_interrupt.py."""
 
 from __future__ import annotations
 

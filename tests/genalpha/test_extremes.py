@@ -2,7 +2,7 @@
 
 Every run returns finite numbers that honour the boundary data (a failed Newton solve,
 which says when, after how many iterations and with what residual, is tested on its own in
-tests/test_buckling.py);
+tests/buckling/test_buckling.py);
 the linear wave conserves energy at lambda_inf = -1 and loses it otherwise.
 """
 

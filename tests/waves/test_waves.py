@@ -28,7 +28,9 @@ def test_eq25_matches_dalembert_away_from_fronts(t, kappa0):
     ct = C * t
     fronts = [ct % (2 * L), 2 * L - ct % (2 * L)]
     s = away_from_fronts(np.linspace(0, L, 41), fronts)
-    series = w.linear_loading_exact(s, t, a=0.7, kappa0=kappa0, c=C, L=L, tol=1e-11)
+    series = w.linear_loading_exact(
+        s, t, a=0.7, kappa0=kappa0, c=C, L=L, series=w.Series(tol=1e-11)
+    )
     closed = w.linear_loading_dalembert(s, t, a=0.7, kappa0=kappa0, c=C, L=L)
     assert np.max(np.abs(series - closed)) < 1e-11
 
@@ -46,7 +48,7 @@ def test_eq27_matches_dalembert_within_its_bound(t):
     s = np.array([0.05, 0.2, 0.7, 0.95])
     closed = w.instant_release_dalembert(s, t, kappa0=10.0, c=C, L=L)
     for n in (100, 1000, 10000):
-        series = w.instant_release_exact(s, t, kappa0=10.0, c=C, L=L, terms=n)
+        series = w.instant_release_exact(s, t, kappa0=10.0, c=C, L=L, series=w.Series(terms=n))
         bound = w.instant_release_bound(n, s, t, kappa0=10.0, c=C, L=L)
         assert np.all(np.abs(series - closed) <= bound)
     assert np.max(bound) < 2e-3 * 10.0  # informative: 0.2 % of kappa0 at 10^4 terms
@@ -57,7 +59,7 @@ def test_eq27_matches_dalembert_within_its_bound(t):
 def test_eq29_matches_dalembert(f, t):
     s = np.linspace(0, L, 21)
     closed = w.smooth_release_dalembert(s, t, kappa0=10.0, c=C, L=L, f=f)
-    series = w.smooth_release_exact(s, t, kappa0=10.0, c=C, L=L, f=f, tol=1e-6)
+    series = w.smooth_release_exact(s, t, kappa0=10.0, c=C, L=L, f=f, series=w.Series(tol=1e-6))
     assert np.max(np.abs(series - closed)) < 1e-6
 
 
@@ -66,7 +68,7 @@ def test_eq29_truncation_error_falls_within_the_bound():
     closed = w.smooth_release_dalembert(s, t, kappa0=10.0, c=C, L=L)
     errors = []
     for n in (10, 30, 100, 300):
-        series = w.smooth_release_exact(s, t, kappa0=10.0, c=C, L=L, terms=n)
+        series = w.smooth_release_exact(s, t, kappa0=10.0, c=C, L=L, series=w.Series(terms=n))
         errors.append(np.max(np.abs(series - closed)))
         assert errors[-1] <= w.smooth_release_bound(n, t, kappa0=10.0, c=C, L=L)[0]
     # terms fall like n^-3 at least: the truncation error like N^-2 or faster
@@ -76,7 +78,7 @@ def test_eq29_truncation_error_falls_within_the_bound():
 def test_tolerance_picks_enough_terms():
     s = np.linspace(0, L, 11)
     for tol in (1e-4, 1e-7):
-        series = w.linear_loading_exact(s, 0.02, a=1.0, c=C, L=L, tol=tol)
+        series = w.linear_loading_exact(s, 0.02, a=1.0, c=C, L=L, series=w.Series(tol=tol))
         assert np.max(np.abs(series - w.linear_loading_dalembert(s, 0.02, a=1.0, c=C, L=L))) < tol
 
 
@@ -88,18 +90,25 @@ def test_precise_series_agree_with_numpy():
         (w.instant_release_exact, {"kappa0": 10.0}),
         (w.smooth_release_exact, {"kappa0": 10.0}),
     ]:
-        ref = fn(s, 0.01, c=C, L=L, terms=20, precise=True, **kw)
+        ref = fn(s, 0.01, c=C, L=L, series=w.Series(terms=20, precise=True), **kw)
         assert isinstance(ref[1], mpmath.mpf)
         np.testing.assert_allclose(
-            ref.astype(float), fn(s, 0.01, c=C, L=L, terms=20, **kw), rtol=0, atol=2e-13
+            ref.astype(float),
+            fn(s, 0.01, c=C, L=L, series=w.Series(terms=20), **kw),
+            rtol=0,
+            atol=2e-13,
         )
 
 
 def test_precise_smooth_release_has_30_digits():
     """The Duhamel quadrature of the reference is good to 30 digits: two precisions agree."""
     s = np.array([0.2, 0.9])
-    a = w.smooth_release_exact(s, 0.01, kappa0=10.0, c=C, L=L, terms=8, precise=True, digits=35)
-    b = w.smooth_release_exact(s, 0.01, kappa0=10.0, c=C, L=L, terms=8, precise=True, digits=50)
+    a = w.smooth_release_exact(
+        s, 0.01, kappa0=10.0, c=C, L=L, series=w.Series(terms=8, precise=True, digits=35)
+    )
+    b = w.smooth_release_exact(
+        s, 0.01, kappa0=10.0, c=C, L=L, series=w.Series(terms=8, precise=True, digits=50)
+    )
     with mpmath.workdps(50):
         assert max(abs(x - y) for x, y in zip(a, b, strict=True)) < mpmath.mpf(10) ** -30
 
@@ -137,14 +146,16 @@ def test_custom_transition_matches_builtin():
     )
     s = np.linspace(0, L, 7)
     np.testing.assert_allclose(
-        w.smooth_release_exact(s, 0.01, kappa0=1.0, c=C, L=L, f=custom, terms=50),
-        w.smooth_release_exact(s, 0.01, kappa0=1.0, c=C, L=L, terms=50),
+        w.smooth_release_exact(s, 0.01, kappa0=1.0, c=C, L=L, f=custom, series=w.Series(terms=50)),
+        w.smooth_release_exact(s, 0.01, kappa0=1.0, c=C, L=L, series=w.Series(terms=50)),
         atol=1e-15,
     )
     with pytest.raises(ValueError, match="f'''"):
         w.smooth_release_exact(s, 0.01, kappa0=1.0, c=C, L=L, f=custom)
     with pytest.raises(ValueError, match="mpmath"):
-        w.smooth_release_exact(s, 0.01, kappa0=1.0, c=C, L=L, f=custom, terms=3, precise=True)
+        w.smooth_release_exact(
+            s, 0.01, kappa0=1.0, c=C, L=L, f=custom, series=w.Series(terms=3, precise=True)
+        )
 
 
 # ------------------------------------------------------------------ runs on the engine
@@ -220,9 +231,15 @@ def test_series_values_regression(num_regression):
     s = np.array([0.0, 0.25, 0.5, 0.75, 1.0])
     out = {}
     for t in (0.005, 0.01, 0.02):
-        out[f"eq25_t{t}"] = w.linear_loading_exact(s, t, a=0.1, c=C, L=L, terms=1000)
-        out[f"eq27_t{t}"] = w.instant_release_exact(s, t, kappa0=10.0, c=C, L=L, terms=1000)
-        out[f"eq29_t{t}"] = w.smooth_release_exact(s, t, kappa0=10.0, c=C, L=L, terms=100)
+        out[f"eq25_t{t}"] = w.linear_loading_exact(
+            s, t, a=0.1, c=C, L=L, series=w.Series(terms=1000)
+        )
+        out[f"eq27_t{t}"] = w.instant_release_exact(
+            s, t, kappa0=10.0, c=C, L=L, series=w.Series(terms=1000)
+        )
+        out[f"eq29_t{t}"] = w.smooth_release_exact(
+            s, t, kappa0=10.0, c=C, L=L, series=w.Series(terms=100)
+        )
         exact = {
             "eq25": w.linear_loading_dalembert(s, t, a=0.1, c=C, L=L),
             "eq27": w.instant_release_dalembert(s, t, kappa0=10.0, c=C, L=L),
@@ -240,7 +257,7 @@ def test_series_values_regression(num_regression):
 def test_fig6_numerical_kappa_pin_of_our_output(num_regression):
     """The paper's Fig 6 grid: ds = 0.01 m, dt = 0.005 s, t = 0.01 s.  A pin of our own
     output (it catches any change of the discrete solution); its error against the exact
-    solution is tested in tests/test_waves.py's convergence tests."""
+    solution is tested in tests/waves/test_waves.py's convergence tests."""
     sol = w.solve(w.SmoothRelease(10.0), n_cells=100, dt=0.005, times=[0.01])
     num_regression.check(
         {"s": sol.s[::10], "kappa": sol.kappa[0, ::10]},
@@ -255,19 +272,14 @@ def test_fig6_numerical_kappa_pin_of_our_output(num_regression):
         ({"c": 0.0}, "c="),
         ({"c": -1.0}, "c="),
         ({"L": 0.0}, "L="),
-        ({"terms": 0}, "terms="),
-        ({"terms": 2.5}, "terms="),
         ({"t": -0.1}, "t must"),
         ({"s": 1.5}, r"s must lie in \[0, L\]"),
         ({"s": -0.1}, "s must"),
-        ({"tol": 0.0}, "tol="),
     ],
 )
 def test_bad_input(kwargs, match):
-    args = {"s": 0.5, "t": 0.01, "c": C, "L": L, "terms": 10}
+    args = {"s": 0.5, "t": 0.01, "c": C, "L": L, "series": w.Series(terms=10)}
     args.update(kwargs)
-    if "tol" in kwargs:
-        args.pop("terms")
     s, t = args.pop("s"), args.pop("t")
     for fn, extra in [
         (w.linear_loading_exact, {"a": 0.1}),
@@ -276,6 +288,41 @@ def test_bad_input(kwargs, match):
     ]:
         with pytest.raises(ValueError, match=match):
             fn(s, t, **args, **extra)
+
+
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [
+        ({"terms": 0}, r"series\.terms=0 must be an integer >= 1"),
+        ({"terms": 2.5}, r"series\.terms=2\.5 must be an integer >= 1"),
+        ({"terms": True}, r"series\.terms=True"),
+        ({"tol": 0.0}, r"series\.tol=0\.0 must be a finite number > 0"),
+        ({"tol": float("nan")}, r"series\.tol=nan"),
+        ({"precise": "yes"}, r"series\.precise='yes' must be True or False"),
+        ({"digits": 4}, r"series\.digits=4 must be an integer >= 5"),
+        ({"digits": 35.0}, r"series\.digits=35\.0"),
+        ({"budget": -1.0}, r"series\.budget=-1\.0 must be a finite number > 0"),
+    ],
+)
+def test_bad_series_options_are_named(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        w.Series(**kwargs)
+
+
+def test_series_options_are_normalised():
+    opts = w.Series(terms=np.int64(7), tol=1, digits=np.int64(40), budget=None)
+    assert (opts.terms, opts.tol, opts.digits, opts.budget) == (7, 1.0, 40, None)
+    assert type(opts.terms) is int and type(opts.tol) is float and type(opts.digits) is int
+
+
+def test_dalembert_digits_choose_the_arithmetic():
+    s = np.array([0.1, 0.6])
+    fast = w.smooth_release_dalembert(s, 0.01, kappa0=10.0, c=C, L=L)
+    slow = w.smooth_release_dalembert(s, 0.01, kappa0=10.0, c=C, L=L, digits=30)
+    assert fast.dtype == float and isinstance(slow[0], mpmath.mpf)
+    np.testing.assert_allclose(slow.astype(float), fast, rtol=0, atol=1e-13)
+    with pytest.raises(ValueError, match=r"digits=4 must be an integer >= 5 or None"):
+        w.instant_release_dalembert(s, 0.01, kappa0=1.0, c=C, L=L, digits=4)
 
 
 def test_bad_solve_input():
@@ -288,4 +335,6 @@ def test_bad_solve_input():
     with pytest.raises(ValueError, match="derivative order"):
         w.ExpQuartic()(0.5, 7)
     with pytest.raises(ValueError, match="needs .* series terms"):
-        w.instant_release_exact(np.array([0.5]), 0.01, kappa0=1.0, c=C, L=L, tol=1e-12)
+        w.instant_release_exact(
+            np.array([0.5]), 0.01, kappa0=1.0, c=C, L=L, series=w.Series(tol=1e-12)
+        )

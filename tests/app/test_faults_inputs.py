@@ -1,5 +1,5 @@
 """The hand-picked probes of the fault classes whose properties are in
-tests/test_properties_inputs.py: each answer is a correct result or a one-line refusal
+tests/app/test_properties_inputs.py: each answer is a correct result or a one-line refusal
 naming the parameter, its range and the model's limit (exit 2 for the user's input, 1 for
 a failed run or store), and no computed result is lost."""
 

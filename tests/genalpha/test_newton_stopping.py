@@ -1,8 +1,8 @@
 """The stopping tests of the Newton solve (genalpha.newton, Newton.stopping): the
 contraction test converges to tol.  That it fails as loudly as the correction test is
-tests/test_genalpha.py::test_max_iter_failure_raises_convergence_error (both tests), and
+tests/genalpha/test_genalpha.py::test_max_iter_failure_raises_convergence_error (both tests), and
 that the step-size control still rejects with it (the default) is
-tests/test_control.py::test_rejected_steps_are_retried_with_smaller_steps."""
+tests/buckling/test_control.py::test_rejected_steps_are_retried_with_smaller_steps."""
 
 import numpy as np
 import pytest

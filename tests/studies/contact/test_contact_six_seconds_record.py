@@ -13,7 +13,7 @@ import pytest
 
 from dyntorsion.beyond.contact.checks import verdict
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[3]
 
 
 @pytest.fixture(scope="module")

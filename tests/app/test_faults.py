@@ -114,21 +114,32 @@ def test_a_newton_failure_does_not_advise_a_longer_run():
 # ---------------------------------------------------------------- hangs, resources
 def test_mpmath_reference_refuses_work_beyond_its_budget():
     """The issue's line (L = 1.3, c = 50, rate 80, t = 0.037) ran 5 minutes and grew to 9.7 GB;
-    it now answers (tests/test_waves_reference.py).  A release 6e5 times faster than the rod's
+    it now answers (tests/waves/test_waves_reference.py).  A release 6e5 times faster than the rod's
     lowest frequency still cannot be summed: refused in well under a second."""
     start = time.perf_counter()
-    with pytest.raises(BudgetError, match=r"estimated .* s \(> budget=60 s\).*budget=") as err:
-        W.smooth_release_exact(
-            np.array([0.5, 1.0]), 0.037, kappa0=1.0, c=1.0, L=10.0, rate=1e5, precise=True
-        )
+    with pytest.raises(
+        BudgetError, match=r"estimated .* s \(> series.budget=60 s\).*series.budget"
+    ) as err:
+        fast = {"kappa0": 1.0, "c": 1.0, "L": 10.0, "rate": 1e5}
+        W.smooth_release_exact(np.array([0.5, 1.0]), 0.037, series=W.Series(precise=True), **fast)
     assert time.perf_counter() - start < 30  # a hang is what is tested, not speed
     assert "fewer" in str(err.value)
     with pytest.raises(BudgetError, match="budget"):
         W.linear_loading_exact(
-            np.linspace(0, 1, 50), 0.3, a=1.0, c=57.7, L=1.0, precise=True, terms=100_000
+            np.linspace(0, 1, 50),
+            0.3,
+            a=1.0,
+            c=57.7,
+            L=1.0,
+            series=W.Series(precise=True, terms=100_000),
         )
     small = W.smooth_release_exact(
-        np.array([0.5]), 0.01, kappa0=1.0, c=57.7, L=1.0, terms=3, precise=True, budget=5.0
+        np.array([0.5]),
+        0.01,
+        kappa0=1.0,
+        c=57.7,
+        L=1.0,
+        series=W.Series(terms=3, precise=True, budget=5.0),
     )
     assert math.isfinite(float(small[0]))
 
@@ -144,7 +155,7 @@ def test_dalembert_at_late_times_finishes_and_keeps_its_period():
     base = W.linear_loading_dalembert(s, t, a=a, kappa0=1.0, c=c, L=L)
     later = W.linear_loading_dalembert(s, t + 1000 * T, a=a, kappa0=1.0, c=c, L=L)
     np.testing.assert_allclose(later - base, a * 1000 * T, rtol=1e-9)
-    series = W.linear_loading_exact(s, t, a=a, kappa0=1.0, c=c, L=L, tol=1e-8)
+    series = W.linear_loading_exact(s, t, a=a, kappa0=1.0, c=c, L=L, series=W.Series(tol=1e-8))
     np.testing.assert_allclose(base, series, atol=1e-7)
     rel = W.instant_release_dalembert(0.37, 1e9, kappa0=1.0, c=c, L=L)
     assert np.isfinite(rel)

@@ -50,7 +50,7 @@ def coarse_run():
 
 
 def test_coarse_onset_pin_of_our_output(coarse_run, num_regression):
-    """A pin of our own output on a coarse grid (any change of the engine moves it); the onset's accuracy is tested against converged grids on the accuracy ladder (tests/test_fidelity.py)."""
+    """A pin of our own output on a coarse grid (any change of the engine moves it); the onset's accuracy is tested against converged grids on the accuracy ladder (tests/studies/test_fidelity.py)."""
     onset = b.detect_onset(coarse_run)
     assert onset.kappa3 > b.critical_twist(Rod.paper())  # delayed, as in the paper
     num_regression.check(

@@ -7,7 +7,7 @@ import re
 
 import numpy as np
 
-ROOT = pathlib.Path(__file__).resolve().parents[1]
+ROOT = pathlib.Path(__file__).resolve().parents[2]
 
 
 def _python_blocks(path: pathlib.Path) -> list[str]:

@@ -4,7 +4,7 @@ relative 1e-12; an empty or blank string for any command-line option is refused 
 line; a negative number in any notation is a value; ``None`` for any
 :class:`~dyntorsion.buckling.spec.Scene` field is a TypeError or ValueError naming the
 field; an interrupt (SIGINT or SIGTERM) keeps the items an executor runs.  The hand-picked
-probes are in tests/test_faults_inputs.py."""
+probes are in tests/app/test_faults_inputs.py."""
 
 from __future__ import annotations
 

@@ -76,7 +76,7 @@ def test_the_pairing_needs_the_box_scheme_in_space():
 
 
 def _run(quadrature: str, viscous: float, implicit: bool = True, t_end: float = 6.0) -> dict:
-    """PyElastica's rod turned 3 turns in 4 s on 30 cells (tests/test_contact_runs.py),
+    """PyElastica's rod turned 3 turns in 4 s on 30 cells (tests/studies/test_contact_runs.py),
     lambda_inf = -0.8: it touches itself at t = 2.37 s."""
     sc = Scene(history=TurnHold(3.0, 4.0, tau=0.1), ends="clamped-turned", rod=ROD, n_cells=30,
                dt=0.01, t_end=t_end, scheme=Scheme(lam_t=-0.8, quadrature=quadrature),

@@ -15,7 +15,7 @@ from dyntorsion.buckling.scene import Scene
 from dyntorsion.store.results import key
 from dyntorsion.studies import kinds  # noqa: F401  (registers the record kinds)
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "docs" / "examples"
+EXAMPLES = Path(__file__).resolve().parents[2] / "docs" / "examples"
 
 
 def _example(name: str):

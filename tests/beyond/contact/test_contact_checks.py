@@ -14,7 +14,7 @@ from hypothesis import strategies as st
 
 from dyntorsion.beyond.contact.checks import BOUNDS, checks, verdict
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[3]
 
 
 def _result(**kw) -> dict:

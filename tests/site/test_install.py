@@ -14,7 +14,7 @@ from dyntorsion.app.cli import main
 from dyntorsion.published import published, value
 from dyntorsion.store import location
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def test_one_version_everywhere():

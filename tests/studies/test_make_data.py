@@ -48,3 +48,18 @@ def test_on_stale_error_reads_a_current_store_and_stops_at_a_stale_record(module
 def test_on_stale_refuses_an_unknown_choice(tmp_path):
     done = _run("traces", tmp_path, "later")
     assert done.returncode == 2 and "--on-stale" in done.stderr
+
+
+def test_make_data_runs_every_preset_the_package_defines():
+    """``--preset all`` is every preset of the package, so the Makefile keeps no list."""
+    from dyntorsion.app.cli import EVERY, _every, parser
+    from dyntorsion.studies.linear_predictions import PRESETS as LINEAR
+    from dyntorsion.studies.presets import PRESETS
+
+    assert _every(parser().parse_args(["sweep", "--preset", EVERY]).preset, PRESETS) == list(
+        PRESETS
+    )
+    assert _every(parser().parse_args(["linear", "--preset", EVERY]).preset, LINEAR) == list(LINEAR)
+    assert _every(["fig10", "tension"], PRESETS) == ["fig10", "tension"]
+    makefile = (Path(__file__).resolve().parents[2] / "Makefile").read_text()
+    assert "--preset all" in makefile and "_PRESETS :=" not in makefile

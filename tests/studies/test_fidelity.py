@@ -101,7 +101,7 @@ def test_wave_presets_converge_to_the_exact_release():
     for name in fidelity.LEVELS:
         f = fidelity.get("waves", name)
         sol = w.solve(problem, rod=rod, times=[0.01], **f.solve_kwargs())
-        exact = problem.exact(sol.s, 0.01, c=rod.c, L=rod.L, terms=200)
+        exact = problem.exact(sol.s, 0.01, c=rod.c, L=rod.L, series=w.Series(terms=200))
         errs.append(float(sol.errors(exact[None, :])["max"][0]))
     assert errs[0] > errs[1] > errs[2]
     ratio = fidelity.get("waves", "standard").n_cells / fidelity.get("waves", "quick").n_cells

@@ -11,7 +11,7 @@ import pytest
 from dyntorsion.store.environment import avx512
 from dyntorsion.studies.contact import contact_roundoff as CR
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[3]
 
 
 @pytest.fixture(scope="module")

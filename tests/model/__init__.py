@@ -1,0 +1,1 @@
+"""Tests of dyntorsion.model."""

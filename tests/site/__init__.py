@@ -1,0 +1,1 @@
+"""Tests of the site, the examples, the install and the layout of the repository."""
