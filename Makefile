@@ -40,8 +40,9 @@ $(VENV)/.docs-installed: pyproject.toml | $(PY)
 	$(PY) -m pip install --quiet -e '.[test,docs]'
 	touch $@
 
-## test: every notebook of the site at quick fidelity, then the fast test suite (what CI runs)
+## test: compile the kernels (once), every notebook of the site at quick fidelity, then the fast test suite (what CI runs)
 test: $(VENV)/.test-installed
+	$(BIN)/dyntorsion warmup
 	DYNTORSION_FIDELITY=quick $(PY) -m sphinx -E -q -W --keep-going -j auto -b html docs docs/_build/quick
 	$(PY) -m pytest -m "not slow" -q
 

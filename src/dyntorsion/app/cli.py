@@ -1,4 +1,4 @@
-"""The command line: ``dyntorsion info``, ``buckle``, ``sweep``, ``linear``, ``fit``.
+"""The command line: ``dyntorsion info``, ``warmup``, ``buckle``, ``sweep``, ``linear``, ``fit``.
 
 ``python -m dyntorsion ...`` is the same program.
 """
@@ -26,6 +26,8 @@ from .cli_rtol import add_rtol_options, buckle_rtol, result_json, sweep_rtol
 from .contact_cli import add_contact_options, buckle_contact
 from .faults import EXIT_INPUT, EXIT_INTERRUPTED, blank_value, describe
 from .info import info as _info
+from .plugins import PluginError, load_plugins, plugins_in
+from .warmup import add_warmup
 
 
 def _peak_twist(scene: Scene) -> float:
@@ -254,6 +256,7 @@ def parser() -> argparse.ArgumentParser:
     sub.add_parser(
         "info", help="version, the default store and why, python, numba and the arithmetic"
     ).set_defaults(func=_info)
+    add_warmup(sub)
 
     b = sub.add_parser("buckle", help="one buckling scene: print t_c and kappa3")
     b.add_argument(
@@ -362,6 +365,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     blank = blank_value(argv)
     if blank:
         print(f"dyntorsion: error: {blank}", file=sys.stderr)
+        return EXIT_INPUT
+    try:  # before the options are read: a plugin's kinds and end sets become choices
+        load_plugins(plugins_in(argv))
+    except PluginError as err:
+        if debug:
+            raise
+        print(f"dyntorsion: error: {err}", file=sys.stderr)
         return EXIT_INPUT
     args = parser().parse_args([a for a in argv if a != "--debug"])
     if args.max_time is not None and not args.max_time > 0:

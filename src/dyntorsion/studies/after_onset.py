@@ -81,9 +81,9 @@ def _contact(grids: list[list]) -> list[dict[str, Any]]:
 def _energy(n_cells: int, dt: float, t_end: float) -> list[dict[str, Any]]:
     rows = []
     for quadrature in ("trapezoidal", "midpoint"):
+        scheme = Scheme(quadrature=quadrature, control=StepControl())
         run = simulate(
-            a=RATES[0], kappa0=10.0, n_cells=n_cells, dt=dt, t_end=t_end,
-            scheme=Scheme(quadrature=quadrature, control=StepControl()),
+            Scene(a=RATES[0], kappa0=10.0, n_cells=n_cells, dt=dt, t_end=t_end, scheme=scheme),
             snapshots=np.arange(0.0, t_end + dt / 2, dt), on_failure="return",
         )  # fmt: skip
         eb = energy_balance(run)

@@ -9,8 +9,10 @@ __all__ = ["KINDS"]
 
 #: the ends and loads a scene is keyed by are part of every scene's computation
 _SCENE = (
-    "dyntorsion.buckling.scene:Scene",
+    "dyntorsion.buckling.spec:Scene",
     "dyntorsion.buckling.loading",
+    "dyntorsion.buckling.loads",
+    "dyntorsion.buckling.seed",
     "dyntorsion.model.ends",
 )
 KINDS: dict[str, tuple[str, ...]] = {

@@ -15,6 +15,7 @@ from ..buckling.scene import Scene
 from ..buckling.seed import STATED, Perturbation
 from ..buckling.statics import critical_twist, euler_load
 from ..genalpha import Newton, StepControl
+from ..model.ends import EQ30
 from ..model.rod import Rod
 from ..store.results import Store
 from .sweep import run_sweep
@@ -114,7 +115,7 @@ TENSION_RATES: tuple[float, ...] = FIG10_RATES[::3]
 def tension_scenes(fraction: float, rates: Iterable[float] = TENSION_RATES) -> list[Scene]:
     """The rate sweep at axial load ``fraction`` x the clamped Euler load (Table 1 rod)."""
     rod = Rod()
-    T = fraction * euler_load(rod, "clamped")
+    T = fraction * euler_load(rod, EQ30.static)
     kappa0 = 10.0 if T == 0.0 else 10.0 * critical_twist(rod, T) / critical_twist(rod)
     return [Scene(a=a, kappa0=kappa0, tension=T, seed=SEEDS["stated"]) for a in rates]
 
@@ -125,8 +126,8 @@ def _newton(a: float, kappa0: float, seed: str = "stated") -> list[Scene]:
     ]
 
 
-#: the initial state and the seed's form as a further dimension of the delay law (issue
-#: 35; the "Initial state and seed" page): the Fig 10 sweep from the unstressed rod with
+#: the initial state and the seed's form as a further dimension of the delay law (the
+#: "Initial state and seed" page): the Fig 10 sweep from the unstressed rod with
 #: kappa0 brought in by section 5's transition in about 0.02 s (its torsional wave needs
 #: dt = 0.001 s, so this one runs at five of the rates, every third from 0.16, until the
 #: first peak) and in about 0.5 s, and with the stated seed fixed in the lab frame or

@@ -153,7 +153,7 @@ def pacing_time(scene: Scene) -> tuple[float | None, str]:
             return t, "linear estimate"
     except ValueError:
         pass
-    if scene.history is None and scene.tension.T_rate == 0.0:
+    if scene.history is None and scene.tension.constant is not None:
         try:
             kc = scene.kappa_cri()
         except ValueError:

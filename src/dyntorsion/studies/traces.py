@@ -10,6 +10,7 @@ common time grid.
 
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -42,7 +43,7 @@ def compare(scene: Scene, modes: int = 16, samples: int = 1200) -> dict[str, Any
         scene.a, scene.kappa0, scene.seed, u_ref=30 * u_ref
     )
     t_stop = 1.1 * lin.t_ref + 1.0
-    run = simulate_scene(scene, t_end=t_stop)
+    run = simulate_scene(replace(scene, t_end=t_stop))
     t = np.linspace(0.0, min(run.t[-1], lin.t[-1]), samples)
     return {
         "t": t,
