@@ -22,7 +22,7 @@ endif
 endif
 endif
 
-.PHONY: test test-all paper docs data data-contact bench bench-matched bench-bounds bench-plateau roundoff lint clean distclean site-check release-check
+.PHONY: test test-all paper docs data data-studies data-contact bench bench-matched bench-bounds bench-plateau roundoff lint clean distclean site-check release-check
 
 $(PY):
 	$(PYTHON) -m venv $(VENV)
@@ -59,13 +59,19 @@ paper: $(VENV)/.docs-installed data
 
 docs: paper
 
-## data: recompute the cached scenes in data/scenes (Fig 10 sweeps, direct Fig 8/9 runs,
-## grid check; linear-stability predictions); scenes already cached and current are kept.  JOBS local processes.
+## data: the records the paper's figures read (Figs 8-10: the rate sweeps, the direct runs
+## of Figs 8 and 9, the grid check; `--preset paper`); records already current are kept.
+## JOBS local processes.  data-studies: every other record the site reads (the studies
+## beyond the paper: accuracy ladders, the tolerance study's hold-outs, linear predictions,
+## traces, the consistency map); its cost is on the Benchmarks page
 JOBS ?= 2
 ## ON_STALE=error: stop at a stale record instead of recomputing it (missing ones are
 ## computed); the bench times `make data` so, with every record current
 ON_STALE ?= recompute
 data: $(VENV)/.test-installed
+	$(BIN)/dyntorsion sweep --preset paper --jobs $(JOBS) --no-fit --on-stale $(ON_STALE)
+
+data-studies: data
 	$(BIN)/dyntorsion sweep --preset all --jobs $(JOBS) --no-fit --on-stale $(ON_STALE)
 	$(BIN)/dyntorsion linear --preset all --jobs $(JOBS) --quiet --on-stale $(ON_STALE)
 	$(PY) -m dyntorsion.studies.traces --on-stale $(ON_STALE)

@@ -325,7 +325,7 @@ class Store:
             return record
         if on_stale == "error":
             how = (
-                "`make data` in the checkout"
+                "`make data-studies` in the checkout"
                 if DATA is not None and self.root.resolve() == DATA.resolve()
                 else f"the command that wrote it, with --on-stale recompute (store {self.root})"
             )

@@ -126,7 +126,7 @@ def load(
     )
 
 
-if __name__ == "__main__":  # make data
+if __name__ == "__main__":  # make data-studies
     import argparse
 
     from ..store.results import ON_STALE

@@ -1,4 +1,4 @@
-"""One record of a study that a page reads: read it, or compute and save it (``make data``)."""
+"""One record of a study that a page reads: read it, or compute and save it (``make data-studies``)."""
 
 from __future__ import annotations
 
@@ -25,13 +25,13 @@ def read_or_compute(
     """The result of the ``kind`` record of ``params`` in ``store`` (default data/scenes).
     Missing or stale: with ``compute=True`` ``make()`` computes it and it is saved with its
     wall time (a stale one is refused with ``on_stale="error"``); without, a
-    :class:`LookupError` names the record (``what``) and ``make data``."""
+    :class:`LookupError` names the record (``what``) and ``make data-studies``."""
     if not isinstance(store, Store):
         store = Store(default_store() if store is None else store)
     rec = store.load(kind, params, on_stale=on_stale if compute else "error")
     if rec is None:
         if not compute:
-            raise LookupError(f"no {kind} record{what} in {store.root}: run `make data`")
+            raise LookupError(f"no {kind} record{what} in {store.root}: run `make data-studies`")
         start = time.perf_counter()
         result = make()
         rec = store.read(store.save(kind, params, result, time.perf_counter() - start))
