@@ -22,6 +22,10 @@ endif
 endif
 endif
 
+# every long step says how long it took (bash's `time`, one line after the step)
+SHELL := /bin/bash
+export TIMEFORMAT := (that step took %0R s)
+
 .PHONY: test test-all paper docs data data-studies data-contact bench bench-matched bench-bounds bench-plateau roundoff lint clean distclean site-check release-check
 
 $(PY):
@@ -42,9 +46,9 @@ $(VENV)/.docs-installed: pyproject.toml | $(PY)
 
 ## test: compile the kernels (once), every notebook of the site at quick fidelity, then the fast test suite (what CI runs)
 test: $(VENV)/.test-installed
-	$(BIN)/dyntorsion warmup
-	DYNTORSION_FIDELITY=quick $(PY) -m sphinx -E -q -W --keep-going -j auto -b html docs docs/_build/quick
-	$(PY) -m pytest -m "not slow" -q
+	time $(BIN)/dyntorsion warmup
+	time DYNTORSION_FIDELITY=quick $(PY) -m sphinx -E -q -W --keep-going -j auto -b html docs docs/_build/quick
+	time $(PY) -m pytest -m "not slow" -q
 
 ## test-all: every test, including the long `slow` ones, property tests at many examples
 test-all: $(VENV)/.test-installed
@@ -53,7 +57,7 @@ test-all: $(VENV)/.test-installed
 ## paper: recompute missing or stale data, regenerate every figure (paper/figures) and
 ## the at-a-glance numbers (paper/numbers.json), and build the documentation site
 paper: $(VENV)/.docs-installed data
-	$(PY) -m sphinx -E -W --keep-going -j auto -b html docs docs/_build/html
+	time $(PY) -m sphinx -E -W --keep-going -j auto -b html docs docs/_build/html
 	@echo
 	@echo "Site built: open docs/_build/html/index.html"
 
@@ -69,7 +73,7 @@ JOBS ?= 2
 ## computed); the bench times `make data` so, with every record current
 ON_STALE ?= recompute
 data: $(VENV)/.test-installed
-	$(BIN)/dyntorsion sweep --preset paper --jobs $(JOBS) --no-fit --on-stale $(ON_STALE)
+	time $(BIN)/dyntorsion sweep --preset paper --jobs $(JOBS) --no-fit --on-stale $(ON_STALE)
 
 data-studies: data
 	$(BIN)/dyntorsion sweep --preset all --jobs $(JOBS) --no-fit --on-stale $(ON_STALE)
