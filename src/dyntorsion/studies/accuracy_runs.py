@@ -29,7 +29,7 @@ from . import fidelity
 from . import presets as P
 from . import tolerance as TOL
 from . import wave_convergence as WC
-from .page_records import read_or_compute
+from .page_records import main_by_level, read_or_compute_at
 
 __all__ = ["KIND", "params", "study", "load"]
 
@@ -258,23 +258,13 @@ def load(
     """The record at fidelity ``level`` (default :func:`~.fidelity.level`) from ``store``
     (default data/scenes): computed when missing or stale with ``compute=True`` (a stale
     one refused with ``on_stale="error"``), refused otherwise (:class:`LookupError`)."""
-    level = fidelity.check_level(level or fidelity.level())
-    p = params(level)
-    return read_or_compute(
-        KIND, p, lambda: study(p), store, compute=compute, on_stale=on_stale, what=f" at {level}"
-    )
+    return read_or_compute_at(KIND, level, params, study, store, compute=compute, on_stale=on_stale)
+
+
+def _summary(runs: dict[str, Any]) -> str:
+    rows = ", ".join(f"{k} {len(v)} rows" for k, v in runs.items() if isinstance(v, list))
+    return f"{rows}; {len(runs['paced']['t_c [s]'])} paced scenes"
 
 
 if __name__ == "__main__":  # make data-studies
-    import argparse
-
-    from ..store.results import ON_STALE
-
-    parser = argparse.ArgumentParser(description="compute the runs of 'Accuracy and cost'")
-    parser.add_argument("--on-stale", choices=ON_STALE, default="recompute")
-    parser.add_argument("--level", choices=fidelity.LEVELS, action="append")
-    args = parser.parse_args()
-    for lvl in args.level or ["quick", "standard"]:
-        runs = load(lvl, compute=True, on_stale=args.on_stale)
-        rows = ", ".join(f"{k} {len(v)} rows" for k, v in runs.items() if isinstance(v, list))
-        print(f"{KIND} [{lvl}]: {rows}; {len(runs['paced']['t_c [s]'])} paced scenes")
+    main_by_level(KIND, "compute the runs of 'Accuracy and cost'", load, _summary)
