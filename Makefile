@@ -81,6 +81,7 @@ data-studies: data
 	$(PY) -m dyntorsion.studies.traces --on-stale $(ON_STALE)
 	$(PY) -m dyntorsion.studies.wave_convergence --on-stale $(ON_STALE)
 	$(PY) -m dyntorsion.studies.after_onset --on-stale $(ON_STALE)
+	$(PY) -m dyntorsion.studies.accuracy_runs --on-stale $(ON_STALE)
 	$(PY) -m dyntorsion.studies.consistency --jobs $(JOBS) --on-stale $(ON_STALE)
 
 ## site-check: open every page of the quick build (made by `make test`; built here when
