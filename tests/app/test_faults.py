@@ -300,7 +300,7 @@ def test_lease_of_a_dead_holder_is_taken_over(tmp_path):
     lease = acquire_lease(record, say=said.append)
     assert lease is not None and acquire_lease(record, say=said.append) is not None  # our own
     lease.release()
-    host = R._owner().rpartition("-")[0]
+    host = R.this_process().rpartition("-")[0]
     parent = os.getppid()
     _lease(record, f"{host}-{parent}", L._started(parent))  # a live other process
     assert acquire_lease(record, say=said.append) is None and not said
@@ -329,7 +329,7 @@ def test_lease_of_a_dead_holder_is_taken_over(tmp_path):
 )
 def test_a_stale_or_unreadable_lease_is_broken_with_one_line(tmp_path, make, words):
     record = tmp_path / "x.json"
-    path = make(record, R._owner().rpartition("-")[0])
+    path = make(record, R.this_process().rpartition("-")[0])
     if "heartbeat" not in words:  # old enough not to be a lease being written
         os.utime(path, (time.time() - L.WRITING_S - 1,) * 2)
     said = []
@@ -347,9 +347,9 @@ def test_a_live_foreign_lease_holds_and_names_its_holder(tmp_path):
 def test_leftover_temporary_files_of_killed_writers_are_removed(tmp_path):
     dead = subprocess.Popen([sys.executable, "-c", "pass"])
     dead.wait()
-    host = R._owner().rpartition("-")[0]
+    host = R.this_process().rpartition("-")[0]
     orphan = tmp_path / f".buckling-onset-abc.{host}-{dead.pid}.k3j_x.tmp"
-    live = tmp_path / f".buckling-onset-abd.{R._owner()}.k3j_y.tmp"
+    live = tmp_path / f".buckling-onset-abd.{R.this_process()}.k3j_y.tmp"
     orphan.write_text("{")
     live.write_text("{")
     assert R.Store(tmp_path).clean() == [orphan]

@@ -18,7 +18,7 @@ import numpy as np
 from .. import __version__
 from ..buckling.scene import Scene, run_scene
 from ..store.results import ON_CORRUPT, ON_STALE
-from ..studies.presets import PRESETS, preset
+from ..studies.presets import GROUPS, PRESETS, preset
 from ..studies.sweep import run_sweep
 from .cli_fit import fit, fit_rows, print_fit
 from .cli_options import add_scene_options, parse_rates, scene_from
@@ -107,20 +107,23 @@ def _stopped(row: dict) -> str:
     return row["stopped"]
 
 
-#: the ``--preset`` value that names every preset of a command (``make data`` uses it)
+#: the ``--preset`` value that names every preset of a command (``make data-studies`` uses it)
 EVERY = "all"
 
 
-def _every(names: list[str], presets: dict) -> list[str]:
-    """The preset names a ``--preset`` list means: ``all`` stands for every one, in order."""
-    return list(presets) if EVERY in names else list(names)
+def _every(names: list[str], presets: dict, groups: dict | None = None) -> list[str]:
+    """The preset names a ``--preset`` list means, in order and each once: a group name
+    (``groups``, e.g. ``paper``) stands for its presets, ``all`` for every one."""
+    groups = {EVERY: tuple(presets)} | (groups or {})
+    out = [each for name in names for each in groups.get(name, (name,))]
+    return list(dict.fromkeys(out))
 
 
 def _sweep_scenes(args: argparse.Namespace) -> list[Scene]:
     if args.preset:
         if args.rates:
             raise ValueError("--preset and --rates: give one of them, not both")
-        return [sc for name in _every(args.preset, PRESETS) for sc in preset(name)]
+        return [sc for name in _every(args.preset, PRESETS, GROUPS) for sc in preset(name)]
     if not args.rates:
         raise ValueError(
             "--rates or --preset: give one (e.g. --rates 0.1,0.4,1.6 or geom:0.05:16:12)"
@@ -278,8 +281,9 @@ def parser() -> argparse.ArgumentParser:
     s.add_argument(
         "--preset",
         action="append",
-        choices=[*sorted(PRESETS), EVERY],
-        help="a named sweep (repeatable; 'all': every one); see dyntorsion.studies.presets.PRESETS",
+        choices=[*sorted(PRESETS), *GROUPS],
+        help="a named sweep (repeatable; 'paper': those the paper's figures read, 'all': every "
+        "one); see dyntorsion.studies.presets.PRESETS",
     )
     s.add_argument("--rates", default=None, help="'0.1,0.4,1.6' or 'geom:LO:HI:N'")
     add_scene_options(s, kappa0=10.0)

@@ -30,6 +30,11 @@ KINDS: dict[str, tuple[str, ...]] = {
         "dyntorsion.studies.after_onset:params",
         *_SCENE,
     ),
+    "accuracy-runs": (
+        "dyntorsion.studies.accuracy_runs:study",
+        "dyntorsion.studies.accuracy_runs:params",
+        *_SCENE,
+    ),
     "contact-run": (
         "dyntorsion.beyond.contact.run:run_contact_scene",
         "dyntorsion.beyond.contact.run:ContactScene",

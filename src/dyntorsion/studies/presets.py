@@ -1,6 +1,7 @@
 """The named sweeps (section 6): the Fig 10 rate sweeps, the direct runs of Figs 8 and 9
 the fitted law is checked against, the accuracy ladders and the studies beyond the paper.
-``make data`` computes them all; :func:`cached` reads one back, computing nothing."""
+``make data`` computes the paper's (:data:`PAPER`), ``make data-studies`` all of them;
+:func:`cached` reads one back, computing nothing."""
 
 from __future__ import annotations
 
@@ -257,7 +258,7 @@ def solver_scenes(names: tuple[str, ...] = tuple(HOLDOUTS)) -> list[Scene]:
     return [solver_check(sc) for name in names for sc in holdout_scenes(name)]
 
 
-#: name -> function returning the scenes; ``make data`` runs them all
+#: name -> function returning the scenes; ``make data-studies`` runs them all
 PRESETS: dict[str, Callable[[], list[Scene]]] = {
     "fig10": lambda: _fig10("stated"),
     "fig10-tiny-seed": lambda: _fig10("tiny"),
@@ -287,11 +288,28 @@ PRESETS: dict[str, Callable[[], list[Scene]]] = {
 }
 
 
+#: the presets the paper's figures read (Figs 8, 9 and 10 and their grid check):
+#: ``make data`` computes these, and ``dyntorsion sweep --preset paper`` names them
+PAPER: tuple[str, ...] = (
+    "fig10",
+    "fig10-tiny-seed",
+    "fig08-09",
+    "fig08-09-tiny-seed",
+    "fig10-grid",
+    "fig10-grid-tiny-seed",
+    "fig08-seeds",
+    "accuracy-fig08",
+)
+
+#: a ``--preset`` value that stands for several presets: the paper's, or every one
+GROUPS: dict[str, tuple[str, ...]] = {"paper": PAPER, "all": tuple(PRESETS)}
+
+
 def cached(name: str, store: Store | str | Path | None = None) -> pd.DataFrame:
     """The table of a named preset read from ``store`` (default :func:`~dyntorsion.store.location.default_store`), computing
     nothing: a missing scene raises :class:`MissingResultError`, a stale one
     :class:`~dyntorsion.store.results.StaleResultError`, each naming the command that
-    computes it (``dyntorsion sweep --preset NAME``; in a checkout also ``make data``)."""
+    computes it (``dyntorsion sweep --preset NAME``; in a checkout also ``make data-studies``)."""
     return run_sweep(
         preset(name),
         store,

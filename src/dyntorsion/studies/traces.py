@@ -4,7 +4,7 @@ The onset detector (:func:`~dyntorsion.buckling.onset.detect_onset`) and the lin
 prediction (:mod:`~dyntorsion.beyond.linear_stability`) meet at one number, the time
 ``|u3(L, t)|`` reaches u_ref.  A trace comparison shows the whole approach: how long the
 simulated rod follows the linear growth, and where it departs.  Records of kind
-``onset-trace`` (cached in ``data/``, ``make data``) hold both traces sampled on a
+``onset-trace`` (cached in ``data/``, ``make data-studies``) hold both traces sampled on a
 common time grid.
 """
 
@@ -77,14 +77,14 @@ def load(
         if rec is None:
             if not compute:
                 raise LookupError(
-                    f"no {KIND} record for {sc.label()} in {store.root}: run `make data`"
+                    f"no {KIND} record for {sc.label()} in {store.root}: run `make data-studies`"
                 )
             rec = store.read(store.save(KIND, params, compare(sc, modes, samples)))
         out.append(rec["result"])
     return out
 
 
-if __name__ == "__main__":  # make data
+if __name__ == "__main__":  # make data-studies
     import argparse
 
     from ..store.results import ON_STALE
