@@ -42,6 +42,20 @@ def test_contact_refuses_the_options_it_would_ignore(extra, capsys, monkeypatch)
     assert extra[0] in _one_line(capsys)
 
 
+@pytest.mark.parametrize("command", ["buckle", "sweep"])
+@pytest.mark.parametrize(
+    "extra", [["--n-cells", "400"], ["--dt", "0.001"], ["--lam-s", "0"], ["--lam-t", "-0.5"]]
+)
+def test_fidelity_refuses_the_grid_options_it_would_ignore(command, extra, capsys, monkeypatch):
+    """``--fidelity`` sets the grid and the scheme: a grid option beside it is refused, not
+    silently dropped (its run would be the level's, whatever the option said)."""
+    monkeypatch.setattr(cli, "run_scene", lambda *a, **k: pytest.fail("ran"), raising=False)
+    rates = ["--a", "16"] if command == "buckle" else ["--rates", "16"]
+    assert main([command, *rates, "--fidelity", "quick", *extra]) == 2
+    line = _one_line(capsys)
+    assert extra[0] in line and "--fidelity quick" in line and "ignored" in line
+
+
 @pytest.mark.parametrize("D", ["1.5", "0.9999", "0.5"])
 def test_a_rod_too_thick_for_the_thin_rod_model_is_refused(D, capsys):
     assert main(["buckle", "--a", "16", "--D", D, "--fidelity", "quick"]) == 2

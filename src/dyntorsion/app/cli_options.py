@@ -148,12 +148,10 @@ def add_scene_options(p: argparse.ArgumentParser, kappa0: float) -> None:
         type=level_type,
         default=None,
         help=f"grid preset ({', '.join(LEVELS)}; dyntorsion.studies.fidelity), its time step scaled to the rod; "
-        "overrides --n-cells/--dt/--lam-*",
+        "instead of --n-cells/--dt/--lam-*",
     )
-    g.add_argument("--n-cells", type=int, default=100, help="cells along the rod")
-    g.add_argument("--dt", type=float, default=0.005, help="time step [s]")
-    g.add_argument("--lam-s", type=float, default=-1.0, help="lambda_inf in space, [-1, 0]")
-    g.add_argument("--lam-t", type=float, default=-1.0, help="lambda_inf in time, [-1, 0]")
+    for option, kind, default, what in GRID_OPTIONS:
+        g.add_argument(option, type=kind, default=None, help=f"{what} ({default})")
     g.add_argument(
         "--control",
         action="store_true",
@@ -300,6 +298,32 @@ def loads_from(args: argparse.Namespace) -> dict:
     return {"tension": tension, "loads": tuple(spread)}
 
 
+#: the grid's options: option, type, default, what it sets (``--fidelity`` sets all four)
+GRID_OPTIONS = (
+    ("--n-cells", int, 100, "cells along the rod"),
+    ("--dt", float, 0.005, "time step [s]"),
+    ("--lam-s", float, -1.0, "lambda_inf in space, [-1, 0]"),
+    ("--lam-t", float, -1.0, "lambda_inf in time, [-1, 0]"),
+)
+
+
+def grid_options(args: argparse.Namespace) -> dict:
+    """``n_cells``, ``dt``, ``lam_s`` and ``lam_t`` as given, else their defaults; with
+    ``--fidelity`` none may be given (it sets them all: one would be ignored)."""
+    given = [o for o, *_ in GRID_OPTIONS if getattr(args, o[2:].replace("-", "_")) is not None]
+    if getattr(args, "fidelity", None) and given:
+        raise ValueError(
+            f"--fidelity {args.fidelity} sets the grid and the scheme; {', '.join(given)} "
+            "would be ignored: give one or the other"
+        )
+    return {
+        o[2:].replace("-", "_"): (
+            v if (v := getattr(args, o[2:].replace("-", "_"))) is not None else d
+        )
+        for o, _, d, _ in GRID_OPTIONS
+    }
+
+
 def scene_from(args: argparse.Namespace, a: float | None) -> Scene:
     """The :class:`~dyntorsion.buckling.scene.Scene` the options describe, at the loading rate ``a``
     (the grid of ``--fidelity`` scaled to the rod; ``--control`` adds step-size control;
@@ -308,12 +332,8 @@ def scene_from(args: argparse.Namespace, a: float | None) -> Scene:
     rod = rod_from(args)
     check_slender(rod)  # a rod too thick for the thin-rod model: refused before any grid
     seed = Perturbation(magnitude=args.seed, form=args.seed_form, location=args.seed_location)
-    grid = fidelity.get(
-        "buckling",
-        args.fidelity
-        or fidelity.Fidelity(args.n_cells, args.dt, lam_s=args.lam_s, lam_t=args.lam_t),
-        rod=rod,
-    )
+    options = grid_options(args)  # refuses --fidelity with any of them
+    grid = fidelity.get("buckling", args.fidelity or fidelity.Fidelity(**options), rod=rod)
     kwargs = grid.simulate_kwargs()
     if args.control:
         kwargs["scheme"] = replace(kwargs["scheme"], control=PRESET_CONTROL)
