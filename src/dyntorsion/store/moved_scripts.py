@@ -64,7 +64,7 @@ MOVED_SCRIPTS: dict[str, tuple[str, str, str]] = {
     "plectoneme_tension.py": (
         "dyntorsion.studies.contact.plectoneme_tension",
         "be52779b39c66b450e1ac25414f1e092b3171d6f260d8490bbeb814961c89786",
-        "3c4f70873357110b618e8365c9901da302122d4abe68b4903056ab67c34fe841",
+        "a58687834db7d1418a5cd77ce483efd1a7384a5b6bfd00607d2178ec689d7d94",
     ),
     "pyelastica_plectoneme.py": (
         "benchmarks/pyelastica_plectoneme.py",
