@@ -22,7 +22,17 @@ endif
 endif
 endif
 
-.PHONY: test test-all paper docs data data-contact bench bench-matched bench-bounds bench-plateau roundoff lint clean distclean site-check release-check
+# one BLAS thread: threaded OpenBLAS splits its sums differently from run to run under load,
+# and the runs past self-contact grow that last-bit difference into visible round-off
+ifeq ($(origin OPENBLAS_NUM_THREADS),undefined)
+export OPENBLAS_NUM_THREADS := 1
+endif
+
+# every long step says how long it took (bash's `time`, one line after the step)
+SHELL := /bin/bash
+export TIMEFORMAT := (that step took %0R s)
+
+.PHONY: test test-all paper docs data data-studies data-contact bench bench-matched bench-bounds bench-plateau roundoff lint clean distclean site-check release-check
 
 $(PY):
 	$(PYTHON) -m venv $(VENV)
@@ -40,36 +50,44 @@ $(VENV)/.docs-installed: pyproject.toml | $(PY)
 	$(PY) -m pip install --quiet -e '.[test,docs]'
 	touch $@
 
-## test: every notebook of the site at quick fidelity, then the fast test suite (what CI runs)
+## test: compile the kernels (once), every notebook of the site at quick fidelity, then the fast test suite (what CI runs)
 test: $(VENV)/.test-installed
-	DYNTORSION_FIDELITY=quick $(PY) -m sphinx -E -q -W --keep-going -j auto -b html docs docs/_build/quick
-	$(PY) -m pytest -m "not slow" -q
+	time $(BIN)/dyntorsion warmup
+	time DYNTORSION_FIDELITY=quick $(PY) -m sphinx -E -q -W --keep-going -j auto -b html docs docs/_build/quick
+	time $(PY) -m pytest -m "not slow" -q -n $(JOBS) --dist loadfile
 
 ## test-all: every test, including the long `slow` ones, property tests at many examples
 test-all: $(VENV)/.test-installed
-	DYNTORSION_HYPOTHESIS=long $(PY) -m pytest -q
+	DYNTORSION_HYPOTHESIS=long $(PY) -m pytest -q -n $(JOBS) --dist loadfile
 
 ## paper: recompute missing or stale data, regenerate every figure (paper/figures) and
 ## the at-a-glance numbers (paper/numbers.json), and build the documentation site
 paper: $(VENV)/.docs-installed data
-	$(PY) -m sphinx -E -W --keep-going -j auto -b html docs docs/_build/html
+	time $(PY) -m sphinx -E -W --keep-going -j auto -b html docs docs/_build/html
 	@echo
 	@echo "Site built: open docs/_build/html/index.html"
 
 docs: paper
 
-## data: recompute the cached scenes in data/scenes (Fig 10 sweeps, direct Fig 8/9 runs,
-## grid check; linear-stability predictions); scenes already cached and current are kept.  JOBS local processes.
+## data: the records the paper's figures read (Figs 8-10: the rate sweeps, the direct runs
+## of Figs 8 and 9, the grid check; `--preset paper`); records already current are kept.
+## JOBS local processes.  data-studies: every other record the site reads (the studies
+## beyond the paper: accuracy ladders, the tolerance study's hold-outs, linear predictions,
+## traces, the consistency map); its cost is on the Benchmarks page
 JOBS ?= 2
 ## ON_STALE=error: stop at a stale record instead of recomputing it (missing ones are
 ## computed); the bench times `make data` so, with every record current
 ON_STALE ?= recompute
 data: $(VENV)/.test-installed
+	time $(BIN)/dyntorsion sweep --preset paper --jobs $(JOBS) --no-fit --on-stale $(ON_STALE)
+
+data-studies: data
 	$(BIN)/dyntorsion sweep --preset all --jobs $(JOBS) --no-fit --on-stale $(ON_STALE)
 	$(BIN)/dyntorsion linear --preset all --jobs $(JOBS) --quiet --on-stale $(ON_STALE)
 	$(PY) -m dyntorsion.studies.traces --on-stale $(ON_STALE)
 	$(PY) -m dyntorsion.studies.wave_convergence --on-stale $(ON_STALE)
 	$(PY) -m dyntorsion.studies.after_onset --on-stale $(ON_STALE)
+	$(PY) -m dyntorsion.studies.accuracy_runs --on-stale $(ON_STALE)
 	$(PY) -m dyntorsion.studies.consistency --jobs $(JOBS) --on-stale $(ON_STALE)
 
 ## site-check: open every page of the quick build (made by `make test`; built here when

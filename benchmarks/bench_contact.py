@@ -42,9 +42,9 @@ import numpy as np
 
 from dyntorsion import Rod, __version__
 from dyntorsion.beyond.contact.linear import sparse_from, sparse_solve, woodbury_solve
-from dyntorsion.beyond.contact.marching import _factor, _residual_jacobian
+from dyntorsion.beyond.contact.marching import factor_jacobian, residual_jacobian
 from dyntorsion.buckling.scene import Scene
-from dyntorsion.genalpha.discrete import setup
+from dyntorsion.genalpha.discrete import Start, setup
 from dyntorsion.genalpha.scheme import Scheme
 from dyntorsion.model.cosserat import Cosserat
 from worktree import ROOT, checkout, run_code, run_json
@@ -68,11 +68,11 @@ def case(n: int, k: int, rng):
     left, right = scene.ends.rows(system, scene.twist, scene.tension)
     y0 = np.zeros((n + 1, nf))
     y0[:, system.index("k3")] = 10.0
-    con, w, fac = setup(system, Scheme(), n, rod.L / n, 2.5e-4, left, right, y0, 0 * y0)
+    con, w, fac = setup(system, Scheme(), n, rod.L / n, 2.5e-4, left, right, Start(y0, 0 * y0))
     w.y[:, :] = y0 + 1e-3 * rng.normal(size=y0.shape)
     gL, gR = left.at(np.array([2.5e-4]))[0], right.at(np.array([2.5e-4]))[0]
-    _residual_jacobian(system.F, system.dF, con, gL, gR, w)
-    _factor(con, w, fac)
+    residual_jacobian(system.F, system.dF, con, gL, gR, w)
+    factor_jacobian(con, w, fac)
     nbl = con.left_rows.shape[0]
     U, G = np.zeros((k, nf * (n + 1))), np.zeros((k, nf * (n + 1)))
     for t in range(k):

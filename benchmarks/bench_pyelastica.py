@@ -47,6 +47,7 @@ import numpy as np
 
 from dyntorsion import Rod, __version__
 from dyntorsion import buckling as b
+from dyntorsion.buckling.scene import Scene
 
 A_RATE, KAPPA0, SEED = 16.0, 10.0, 1e-8
 SHEAR_FACTOR = 1.0
@@ -166,12 +167,7 @@ def elastica_run(
 def dyntorsion_run(n_cells: int, dt: float):
     start = time.perf_counter()
     run = b.simulate(
-        a=A_RATE,
-        kappa0=KAPPA0,
-        n_cells=n_cells,
-        dt=dt,
-        t_end=T_END,
-        perturbation=SEED,
+        Scene(a=A_RATE, kappa0=KAPPA0, n_cells=n_cells, dt=dt, t_end=T_END, seed=SEED),
         on_failure="return",
         progress=False,
     )
@@ -191,7 +187,7 @@ def ladder(name, runs):
                 t=run.t[: bad[0]],
                 u3_end=run.u3_end[: bad[0]],
                 rod=run.rod,
-                params=run.params,
+                scene=run.scene,
                 history=None,
             )
         U = np.abs(run.u3_end)

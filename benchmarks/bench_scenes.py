@@ -25,11 +25,14 @@ from dyntorsion import __version__
 from dyntorsion import buckling as b
 from dyntorsion import waves as w
 from dyntorsion.beyond import linear_stability as ls
+from dyntorsion.buckling.scene import Scene
 
 
 def main() -> None:
     print(f"dyntorsion {__version__}, Python {sys.version.split()[0]}, {platform.machine()}")
-    b.simulate(a=1.6, n_cells=10, dt=0.05, t_end=0.2)  # compile outside the timing
+    b.simulate(
+        Scene(a=1.6, n_cells=10, dt=0.05, t_end=0.2, kappa0=0.0)
+    )  # compile outside the timing
     # the standard grid, and the cheapest grids within 0.5 % and 0.1 % of the
     # Richardson t_c (Accuracy and cost page, ladder `accuracy-fig08`)
     for n, dt, note in (
@@ -39,7 +42,9 @@ def main() -> None:
     ):
         walls, steps = [], 0
         for _ in range(3):
-            run = b.simulate(a=1.6, n_cells=n, dt=dt, t_end=40.0, on_failure="return")
+            run = b.simulate(
+                Scene(a=1.6, n_cells=n, dt=dt, t_end=40.0, kappa0=0.0), on_failure="return"
+            )
             walls.append(run.run.wall_time)
             steps = run.run.steps
         med = statistics.median(walls)
@@ -62,7 +67,7 @@ def main() -> None:
     model = ls.LateralModel()
     sim = []
     for _ in range(3):
-        run = b.simulate(a=1.6, kappa0=10.0, n_cells=100, dt=0.005, t_end=10.0)
+        run = b.simulate(Scene(a=1.6, kappa0=10.0, n_cells=100, dt=0.005, t_end=10.0))
         sim.append(run.run.wall_time)
     t_sim = statistics.median(sim)
     print(f"Fig 10 scene a=1.6 simulated to 10 s (N=100, dt=0.005): {t_sim:.2f} s")

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from dyntorsion import shapes
+from dyntorsion.buckling.scene import Scene
 
 
 def _segment_distances(p0, p1, q0, q1):
@@ -141,11 +142,7 @@ def test_kernels_on_a_run_past_the_onset():
     from dyntorsion import buckling as b
     from dyntorsion.genalpha import Scheme, StepControl
 
-    run = b.simulate(
-        a=10.0, kappa0=10.0, n_cells=40, dt=0.01, t_end=4.0, perturbation=1e-4,
-        snapshots=list(np.arange(2.0, 4.0, 0.01)), stop_at_contact=False,
-        scheme=Scheme(control=StepControl()), on_failure="return",
-    ).run  # fmt: skip
+    run = b.simulate(Scene(a=10.0, kappa0=10.0, n_cells=40, dt=0.01, t_end=4.0, seed=1e-4, scheme=Scheme(control=StepControl())), snapshots=list(np.arange(2.0, 4.0, 0.01)), stop_at_contact=False, on_failure="return").run  # fmt: skip
     ds = run.s[1] - run.s[0]
     rs = [shapes.shape(y, ds) for y in run.snapshots]
     hits = 0

@@ -6,6 +6,7 @@ from scipy.spatial.transform import Rotation
 
 from dyntorsion import buckling as b
 from dyntorsion import shapes
+from dyntorsion.buckling.scene import Scene
 
 
 def test_rodrigues_matches_scipy(rng):
@@ -52,12 +53,7 @@ def routes_discrepancy(n_cells):
     """Both routes on a run past the onset (every step kept); returns the largest distance
     between their centrelines, the deflection, and the time route's frames."""
     bent = b.simulate(
-        a=10.0,
-        kappa0=10.0,
-        n_cells=n_cells,
-        dt=0.01,
-        t_end=2.0,
-        perturbation=1e-4,
+        Scene(a=10.0, kappa0=10.0, n_cells=n_cells, dt=0.01, t_end=2.0, seed=1e-4),
         snapshots=list(np.arange(0.0, 2.001, 0.01)),
     )
     run = bent.run

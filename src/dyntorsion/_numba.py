@@ -6,6 +6,14 @@ Every compiled kernel is decorated with :func:`jit`.  Kernels are cached on disk
 semantics (no ``fastmath``): the onset of a delayed instability is seeded by
 numbers of size 1e-8 and we do not want reassociated sums to move it.
 
+Nothing compiles at import: a kernel compiles at its first call (or when a kernel that
+calls it compiles), loading its machine code from the disk cache when it is there.  A
+kernel with an explicit signature (:func:`jit` ``signature=``) compiles exactly that
+signature then, and no other, as an eagerly compiled kernel would
+(:class:`DeferredDispatcher`).  The first compilation in a process that misses the disk
+cache says so on stderr, once (:func:`announce_cold_cache`); :func:`warmup` compiles every
+signed kernel ahead (``dyntorsion warmup``).
+
 Set ``NUMBA_DISABLE_JIT=1`` to run every kernel as plain Python (slow, but
 debuggable); that switch is numba's own.
 
@@ -20,7 +28,9 @@ run the old callee.  Keyed by the sources of all kernels, any such edit recompil
 from __future__ import annotations
 
 import hashlib
+import importlib
 import os
+import sys
 import tempfile
 from functools import cache
 from pathlib import Path
@@ -28,7 +38,9 @@ from typing import Annotated, get_args, get_origin, get_type_hints
 
 import numba
 import numpy as np
-from numba.core import caching
+from numba.core import caching, event, typeinfer
+from numba.core.compiler_lock import global_compiler_lock
+from numba.core.registry import CPUDispatcher
 
 JIT_OPTIONS = {"cache": True, "nogil": True, "fastmath": False, "error_model": "numpy"}
 
@@ -91,21 +103,138 @@ if SourceKeyedLocator not in caching.CacheImpl._locator_classes:
     caching.CacheImpl._locator_classes.insert(0, SourceKeyedLocator)
 
 
+class DeferredDispatcher(CPUDispatcher):
+    """A dispatcher that compiles its one declared signature at first need, then no other.
+
+    Eager ``numba.njit(signature)`` compiles at import; this one waits until it is called
+    from Python, typed as the callee of another kernel, or converted to a first-class
+    function: then it compiles ``signature`` (from the disk cache when current) and
+    disables further compilation, so from there on it behaves exactly as the eagerly
+    compiled kernel (same machine code, same conversions, same errors).
+    """
+
+    _declared = None  # the signature still to compile; None once compiled
+
+    def compile_declared(self) -> None:
+        """Compile the declared signature now, if it is still pending (thread-safe)."""
+        if self._declared is None:
+            return
+        with global_compiler_lock:  # numba's own (reentrant): no second lock to deadlock on
+            if self._declared is None:
+                return
+            with typeinfer.register_dispatcher(self):
+                self.compile(self._declared)
+            self.disable_compile()
+            self._declared = None
+
+    def _compile_for_args(self, *args, **kws):
+        if self._declared is None:
+            return super()._compile_for_args(*args, **kws)
+        self.compile_declared()
+        return self  # numba calls what this returns: now the compiled dispatch decides
+
+    def get_call_template(self, args, kws):
+        self.compile_declared()
+        return super().get_call_template(args, kws)
+
+    def get_compile_result(self, sig):
+        self.compile_declared()
+        return super().get_compile_result(sig)
+
+    def _reduce_states(self):
+        # pickled (to another process): as the eager kernel, its one signature and no other
+        self.compile_declared()
+        return super()._reduce_states()
+
+
+#: every kernel with a declared signature, in order of definition (what :func:`warmup` compiles)
+DEFERRED: list[DeferredDispatcher] = []
+
+
 def jit(func=None, signature=None, **overrides):
     """``numba.njit`` with the package's options (see module docstring).
 
-    Use as ``@jit`` or ``@jit(signature=...)``.  An explicit signature compiles
-    eagerly; kernels that take other compiled functions as arguments need one,
-    because only then is their on-disk cache key the same in every process.
+    Use as ``@jit`` or ``@jit(signature=...)``.  Without a signature the kernel compiles
+    for the argument types of its first call.  With one, it compiles that signature at
+    first need and never another (a :class:`DeferredDispatcher`); kernels that take other
+    compiled functions as arguments need one, because only then is their on-disk cache key
+    the same in every process.
     """
     options = {**JIT_OPTIONS, **overrides}
 
     def wrap(f):
-        if signature is None:
+        if signature is None or numba.config.DISABLE_JIT:
             return numba.njit(**options)(f)
-        return numba.njit(signature, **options)(f)
+        cache_on = options.pop("cache")
+        targetoptions = {**options, "nopython": True, "boundscheck": None}
+        dispatcher = DeferredDispatcher(py_func=f, locals={}, targetoptions=targetoptions)
+        if cache_on:
+            dispatcher.enable_caching()
+        dispatcher._declared = signature
+        DEFERRED.append(dispatcher)
+        return dispatcher
 
     return wrap if func is None else wrap(func)
+
+
+#: rough time a cold cache costs the first run that compiles the engine's kernels (2 cores)
+COLD_COMPILE_SECONDS = 40
+
+
+class _ColdCacheNotice(event.Listener):
+    """Says once per process, on stderr, that the package's kernels are being compiled:
+    numba fires ``numba:compile`` only for a signature missing from the disk cache."""
+
+    said = False
+
+    def on_start(self, ev):
+        if self.said:
+            return
+        dispatcher = ev.data.get("dispatcher")
+        py_func = getattr(dispatcher, "py_func", None)
+        path = getattr(getattr(py_func, "__code__", None), "co_filename", "")
+        try:
+            Path(path).resolve().relative_to(PACKAGE_DIR)
+        except (ValueError, OSError):
+            return  # not one of ours
+        type(self).said = True
+        announce_cold_cache()
+
+    def on_end(self, ev):
+        pass
+
+
+def announce_cold_cache() -> None:
+    """Print the cold-cache notice on stderr (see :class:`_ColdCacheNotice`)."""
+    print(
+        f"dyntorsion: compiling the engine's kernels, once: about {COLD_COMPILE_SECONDS} s "
+        "(`dyntorsion warmup` compiles all of them ahead)",
+        file=sys.stderr,
+        flush=True,
+    )
+
+
+event.register("numba:compile", _ColdCacheNotice())
+
+
+def kernel_modules(root: Path = PACKAGE_DIR) -> list[str]:
+    """Dotted names of the package's modules that define kernels (those using this one)."""
+    names = []
+    for path in sorted(root.rglob("*.py")):
+        if path.name != "_numba.py" and b"_numba" in path.read_bytes():
+            parts = path.relative_to(root.parent).with_suffix("").parts
+            names.append(".".join(parts[:-1] if parts[-1] == "__init__" else parts))
+    return names
+
+
+def warmup() -> int:
+    """Import every module that defines kernels and compile every declared signature now
+    (from the disk cache where it is current); returns how many kernels were compiled."""
+    for name in kernel_modules():
+        importlib.import_module(name)
+    for dispatcher in DEFERRED:
+        dispatcher.compile_declared()
+    return len(DEFERRED)
 
 
 # Array types of the engine's compiled interface (all float64/int64, C-contiguous).

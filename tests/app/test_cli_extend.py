@@ -91,7 +91,7 @@ def test_buckle_with_an_elliptic_section_a_load_and_a_history(capsys):
         (["sweep", "--rates", "geom:0.1:1"], "geom:LO:HI:N"),
         (["buckle", "--history", "poly:10,x", "--t-end", "1"], "comma-separated numbers"),
         (["buckle", "--a", "1", "--ellipse", "1e-3"], "must hold 2 numbers"),
-        (["buckle", "--history", "spline:1"], "allowed: ramp"),
+        (["buckle", "--history", "spline:1"], "no history of kind 'spline'; registered: custom"),
         (["buckle", "--a", "1.6", "--ends", "pinned-follower"], "give t_end"),
         (["buckle", "--a", "1.6", "--paced", "8"], "steps=8 must be an integer in [16"),
         (

@@ -23,6 +23,7 @@ from dyntorsion.app.cli import main
 from dyntorsion.buckling import Perturbation, simulate
 from dyntorsion.buckling.delay_law import fit_power_law
 from dyntorsion.buckling.onset import detect_onset
+from dyntorsion.buckling.scene import Scene
 from dyntorsion.genalpha.guard import BudgetError, StepLongerThanRunError
 from dyntorsion.store import leases as L
 from dyntorsion.store import results as R
@@ -101,7 +102,7 @@ def test_invalid_onset_window_is_refused_before_simulating():
 
 
 def test_a_newton_failure_does_not_advise_a_longer_run():
-    run = simulate(a=1.0, kappa0=10.0, n_cells=8, dt=0.02, t_end=0.2, progress=False)
+    run = simulate(Scene(a=1.0, kappa0=10.0, n_cells=8, dt=0.02, t_end=0.2), progress=False)
     with pytest.raises(ValueError, match="increase t_end"):
         detect_onset(run)
     run.run.stopped = "failed: Newton failed at t=0.2 (step 10)"
@@ -165,7 +166,7 @@ def test_dalembert_at_late_times_finishes_and_keeps_its_period():
 def test_allocation_is_checked_before_the_run():
     """--dt 1e-9 --t-end 10 asked numpy for 74.5 GiB."""
     with pytest.raises(BudgetError, match=r"GiB.*raise dt"):
-        simulate(a=1.0, n_cells=4, dt=1e-9, t_end=10.0)
+        simulate(Scene(a=1.0, n_cells=4, dt=1e-9, t_end=10.0, kappa0=0.0))
 
 
 def test_dask_local_with_negative_workers_is_refused(tmp_path):
@@ -299,7 +300,7 @@ def test_lease_of_a_dead_holder_is_taken_over(tmp_path):
     lease = acquire_lease(record, say=said.append)
     assert lease is not None and acquire_lease(record, say=said.append) is not None  # our own
     lease.release()
-    host = R._owner().rpartition("-")[0]
+    host = R.this_process().rpartition("-")[0]
     parent = os.getppid()
     _lease(record, f"{host}-{parent}", L._started(parent))  # a live other process
     assert acquire_lease(record, say=said.append) is None and not said
@@ -328,7 +329,7 @@ def test_lease_of_a_dead_holder_is_taken_over(tmp_path):
 )
 def test_a_stale_or_unreadable_lease_is_broken_with_one_line(tmp_path, make, words):
     record = tmp_path / "x.json"
-    path = make(record, R._owner().rpartition("-")[0])
+    path = make(record, R.this_process().rpartition("-")[0])
     if "heartbeat" not in words:  # old enough not to be a lease being written
         os.utime(path, (time.time() - L.WRITING_S - 1,) * 2)
     said = []
@@ -346,9 +347,9 @@ def test_a_live_foreign_lease_holds_and_names_its_holder(tmp_path):
 def test_leftover_temporary_files_of_killed_writers_are_removed(tmp_path):
     dead = subprocess.Popen([sys.executable, "-c", "pass"])
     dead.wait()
-    host = R._owner().rpartition("-")[0]
+    host = R.this_process().rpartition("-")[0]
     orphan = tmp_path / f".buckling-onset-abc.{host}-{dead.pid}.k3j_x.tmp"
-    live = tmp_path / f".buckling-onset-abd.{R._owner()}.k3j_y.tmp"
+    live = tmp_path / f".buckling-onset-abd.{R.this_process()}.k3j_y.tmp"
     orphan.write_text("{")
     live.write_text("{")
     assert R.Store(tmp_path).clean() == [orphan]
@@ -392,16 +393,17 @@ def test_rod_parameters(kw, exc, words):
 )
 def test_simulate_refuses_bad_arguments_by_name(kw, words):
     args = {"a": 1.0, "n_cells": 4, "dt": 0.01, "t_end": 0.05, **kw}
+    run = {k: args.pop(k) for k in ("snapshots", "check_every") if k in args}
     with pytest.raises(ValueError, match=words):
-        simulate(**args)
+        simulate(Scene(**args), **run)
 
 
 def test_a_step_longer_than_the_run_has_its_own_error():
     """Pages and callers tell this refusal from others by its type, not its words."""
     with pytest.raises(StepLongerThanRunError, match="dt=0.1 exceeds the run's length"):
-        simulate(a=1.0, n_cells=4, dt=0.1, t_end=0.05)
+        simulate(Scene(a=1.0, n_cells=4, dt=0.1, t_end=0.05, kappa0=0.0))
     with pytest.raises(ValueError) as other:
-        simulate(a=1.0, n_cells=4, dt=0.0, t_end=0.05)
+        simulate(Scene(a=1.0, n_cells=4, dt=0.0, t_end=0.05, kappa0=0.0))
     assert not isinstance(other.value, StepLongerThanRunError)
 
 

@@ -16,7 +16,10 @@ import dyntorsion.studies  # noqa: F401  (registers the record kinds)
 from dyntorsion import Rod
 from dyntorsion.app import cli
 from dyntorsion.app.cli import main
+from dyntorsion.buckling import Scene, simulate
 from dyntorsion.buckling.slender import check_slender
+from dyntorsion.genalpha import guard
+from dyntorsion.genalpha.guard import BudgetError
 from dyntorsion.store import leases, workers
 from dyntorsion.store.fingerprint import register_kind
 from dyntorsion.store.results import CorruptResultError, Store, UnsavedResultError
@@ -39,12 +42,30 @@ def test_contact_refuses_the_options_it_would_ignore(extra, capsys, monkeypatch)
     assert extra[0] in _one_line(capsys)
 
 
+@pytest.mark.parametrize("command", ["buckle", "sweep"])
+@pytest.mark.parametrize(
+    "extra", [["--n-cells", "400"], ["--dt", "0.001"], ["--lam-s", "0"], ["--lam-t", "-0.5"]]
+)
+def test_fidelity_refuses_the_grid_options_it_would_ignore(command, extra, capsys, monkeypatch):
+    """``--fidelity`` sets the grid and the scheme: a grid option beside it is refused, not
+    silently dropped (its run would be the level's, whatever the option said)."""
+    monkeypatch.setattr(cli, "run_scene", lambda *a, **k: pytest.fail("ran"), raising=False)
+    rates = ["--a", "16"] if command == "buckle" else ["--rates", "16"]
+    assert main([command, *rates, "--fidelity", "quick", *extra]) == 2
+    line = _one_line(capsys)
+    assert extra[0] in line and "--fidelity quick" in line and "ignored" in line
+
+
 @pytest.mark.parametrize("D", ["1.5", "0.9999", "0.5"])
 def test_a_rod_too_thick_for_the_thin_rod_model_is_refused(D, capsys):
     assert main(["buckle", "--a", "16", "--D", D, "--fidelity", "quick"]) == 2
     line = _one_line(capsys)
     assert f"thickness {float(D):g} m" in line and "allowed range (0, 0.1]" in line
     assert "thin-rod theory" in line
+    with pytest.raises(ValueError, match="allowed range"):
+        simulate(
+            Scene(rod=Rod(D=2.0, L=1.0), a=16.0, n_cells=10, dt=0.01, t_end=0.1), progress=False
+        )
     with pytest.raises(ValueError, match="allowed range"):
         check_slender(Rod(D=2.0, L=1.0))
     check_slender(Rod(D=0.1, L=1.0))  # the bound itself is a thin rod
@@ -115,6 +136,12 @@ def test_a_full_disk_names_the_lease_and_leaves_none(tmp_path, monkeypatch):
     assert not list(tmp_path.iterdir())  # no empty lease for the next run to wait on
 
 
+def test_the_memory_refusal_states_its_rule(monkeypatch):
+    monkeypatch.setattr(guard, "available_memory", lambda: 2**30)
+    with pytest.raises(BudgetError, match=r"over the limit of 50% of the 1 GiB available"):
+        guard.check_memory(10**7, 10**3, 12, 10**7, 0)
+
+
 def test_a_record_with_a_valid_hash_and_no_t_c_is_moved_aside(tmp_path):
     st = Store(tmp_path)
     params = {"x": 1}
@@ -137,7 +164,6 @@ def test_a_contact_run_checks_the_store_first_and_keeps_a_result_it_cannot_write
     tmp_path, monkeypatch
 ):
     from dyntorsion.beyond.contact.run import ContactScene
-    from dyntorsion.buckling.scene import Scene
 
     cs = ContactScene(Scene(a=16.0, t_end=1.0))
 

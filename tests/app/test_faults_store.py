@@ -154,4 +154,4 @@ def test_a_custom_history_is_checked_once_before_the_run(func, words):
     from dyntorsion.buckling.loading import Custom
 
     with pytest.raises(ValueError, match=rf"history=custom 'h': .*{words}"):
-        simulate(history=Custom("h", func), n_cells=10, dt=0.01, t_end=0.05, progress=False)
+        simulate(Scene(history=Custom("h", func), n_cells=10, dt=0.01, t_end=0.05), progress=False)

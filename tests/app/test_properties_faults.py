@@ -27,6 +27,7 @@ from dyntorsion.app.cli import main
 from dyntorsion.buckling import simulate
 from dyntorsion.buckling.loading import Custom
 from dyntorsion.buckling.resolution import judge
+from dyntorsion.buckling.scene import Scene
 from dyntorsion.buckling.statics import critical_twist
 from dyntorsion.genalpha import guard
 from dyntorsion.genalpha.guard import BudgetError
@@ -89,17 +90,17 @@ def test_a_signal_ignored_on_entry_stays_ignored():
 def test_an_interrupted_run_raises_keyboardinterrupt_and_the_next_run_works(delay):
     """SIGINT at any moment of an in-process run: KeyboardInterrupt (never a crash), and the
     interpreter (a notebook's kernel) runs the next scene normally."""
-    kw = dict(a=16.0, kappa0=10.0, n_cells=400, dt=0.0005, t_end=1.0, progress=False)
+    kw = dict(a=16.0, kappa0=10.0, n_cells=400, dt=0.0005, t_end=1.0)
     timer = threading.Timer(delay, signal.raise_signal, args=(signal.SIGINT,))
     try:
         timer.start()  # inside: at delay 0 the signal may come before start() returns
-        simulate(**kw)
+        simulate(Scene(**kw), progress=False)
         event("finished before the signal")
     except KeyboardInterrupt:
         event("interrupted")
     finally:
         timer.join()
-    run = simulate(**{**kw, "n_cells": 10, "dt": 0.02, "t_end": 0.2})
+    run = simulate(Scene(**{**kw, "n_cells": 10, "dt": 0.02, "t_end": 0.2}))
     assert run.stopped == "t_end"
 
 
@@ -318,4 +319,6 @@ def test_a_custom_history_with_bad_output_is_named_before_the_run(bad):
     with pytest.MonkeyPatch.context() as mp:  # before the run, not deep inside it
         mp.setattr(I, "Stepper", lambda *a, **k: pytest.fail("the run started"))
         with pytest.raises(ValueError, match=r"history=custom 'h': kappa3\(0, t\)"):
-            simulate(history=Custom("h", func), n_cells=10, dt=0.01, t_end=0.1, progress=False)
+            simulate(
+                Scene(history=Custom("h", func), n_cells=10, dt=0.01, t_end=0.1), progress=False
+            )

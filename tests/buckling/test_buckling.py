@@ -6,6 +6,8 @@ import pytest
 
 from dyntorsion import Rod
 from dyntorsion import buckling as b
+from dyntorsion.buckling.loading import Ramp
+from dyntorsion.buckling.scene import Scene
 from dyntorsion.genalpha import ConvergenceError
 
 
@@ -41,11 +43,7 @@ def test_critical_twist_scales_like_the_formula():
 def coarse_run():
     """A short, coarse case: kappa0 = 10, a = 10 rad/s, N = 40, dt = 0.01 s."""
     return b.simulate(
-        a=10.0,
-        kappa0=10.0,
-        n_cells=40,
-        dt=0.01,
-        t_end=6.0,
+        Scene(a=10.0, kappa0=10.0, n_cells=40, dt=0.01, t_end=6.0),
         on_failure="return",
         snapshots=[0.0, 1.0],
     )
@@ -78,7 +76,7 @@ def test_straight_before_onset(coarse_run):
 
 def test_no_seed_stays_exactly_straight():
     run = b.simulate(
-        a=10.0, kappa0=10.0, n_cells=20, dt=0.02, t_end=3.0, perturbation=0.0, snapshots=[3.0]
+        Scene(a=10.0, kappa0=10.0, n_cells=20, dt=0.02, t_end=3.0, seed=0.0), snapshots=[3.0]
     )
     y = run.run.snapshots[-1]
     bent = np.delete(y, [5, 8], axis=1)  # all but w3, k3
@@ -92,28 +90,15 @@ def test_failure_keeps_the_computed_steps():
     """A Newton failure raises with time, iteration and residual and carries the partial run."""
     from dyntorsion.genalpha import Newton
 
+    scene = Scene(a=10.0, kappa0=10.0, n_cells=20, dt=0.05, t_end=2.0,
+                  newton=Newton(max_iter=1, tol=1e-14))  # fmt: skip
     with pytest.raises(ConvergenceError) as info:
-        b.simulate(
-            a=10.0,
-            kappa0=10.0,
-            n_cells=20,
-            dt=0.05,
-            t_end=2.0,
-            newton=Newton(max_iter=1, tol=1e-14),
-        )
+        b.simulate(scene)
     err = info.value
     assert err.t > 0 and err.residual > 0
     assert err.run is not None and err.run.steps == err.step - 1
     assert err.run.t[-1] == pytest.approx(err.t - 0.05)
-    partial = b.simulate(
-        a=10.0,
-        kappa0=10.0,
-        n_cells=20,
-        dt=0.05,
-        t_end=2.0,
-        newton=Newton(max_iter=1, tol=1e-14),
-        on_failure="return",
-    )
+    partial = b.simulate(scene, on_failure="return")
     assert partial.stopped.startswith("failed")
 
 
@@ -130,17 +115,19 @@ def test_perturbation_forms():
 @pytest.mark.parametrize(
     "kwargs, match",
     [
-        ({"perturbation": b.Perturbation(form="point", location=2.0)}, "location"),
+        ({"seed": b.Perturbation(form="point", location=2.0)}, "location"),
         ({"n_cells": 1}, "n_cells"),
         ({"a": float("nan")}, "a="),
         ({"on_failure": "ignore"}, "on_failure"),
     ],
 )
 def test_bad_input(kwargs, match):
-    args = {"a": 1.0, "n_cells": 10, "dt": 0.01, "t_end": 0.02}
+    args = {"a": 1.0, "kappa0": 0.0, "n_cells": 10, "dt": 0.01, "t_end": 0.02}
+    run = {k: args.pop(k) for k in ("on_failure",) if k in args}
     with pytest.raises(ValueError, match=match):
         args.update(kwargs)
-        b.simulate(**args)
+        run |= {k: args.pop(k) for k in ("on_failure",) if k in args}
+        b.simulate(Scene(**args), **run)
 
 
 def test_bad_perturbation_values():
@@ -167,7 +154,7 @@ def test_onset_of_a_synthetic_trace():
         theta_left=0 * t,
         run=None,
         rod=Rod.paper(),
-        params={"a": 2.0, "kappa0": 1.0},
+        history=Ramp(a=2.0, kappa0=1.0),
     )
     onset = b.detect_onset(run)
     assert onset.t_c == pytest.approx(6.0, abs=1e-3)
@@ -180,7 +167,8 @@ def test_onset_of_a_synthetic_trace():
 def test_paper_scene_onset_pin_of_our_output(rho, num_regression):
     """The full Fig 8 / Fig 9 scenes (kappa0 = 0, a = 1.6, default seed, N = 100, dt = 0.005)."""
     run = b.simulate(
-        Rod.paper().with_(rho=rho), a=1.6, n_cells=100, dt=0.005, t_end=45.0, on_failure="return"
+        Scene(rod=Rod.paper().with_(rho=rho), a=1.6, n_cells=100, dt=0.005, t_end=45.0, kappa0=0.0),
+        on_failure="return",
     )
     onset = b.detect_onset(run)
     assert onset.kappa3 > b.critical_twist(Rod.paper())

@@ -9,6 +9,7 @@ import pytest
 from dyntorsion.buckling import simulation as buckling
 from dyntorsion.buckling import stops
 from dyntorsion.buckling.onset import PEAK_FALL, reference_level
+from dyntorsion.buckling.scene import Scene
 from dyntorsion.genalpha import LongSteps, Scheme, StepControl
 from dyntorsion.genalpha.watch import STOP_SIGNATURE, CompiledStop
 
@@ -49,30 +50,30 @@ def same_run(a, b):
         dict(a=16.0, kappa0=10.0, n_cells=100, dt=0.005, t_end=4.0, scheme=CONTROL),
         # checks every 0.1 s, a snapshot off that grid, until the first peak
         dict(a=16.0, kappa0=10.0, n_cells=100, dt=0.005, t_end=4.0, scheme=CONTROL,
-             stop_after_first_peak=True, snapshots=[2.5025]),
-        dict(a=1.6, kappa0=10.0, n_cells=40, dt=0.01, t_end=15.0, stop_after_first_peak=True,
+             until="first-peak", snapshots=[2.5025]),
+        dict(a=1.6, kappa0=10.0, n_cells=40, dt=0.01, t_end=15.0, until="first-peak",
              snapshots=[8.005, 9.0]),
         # long steps first, then every level
-        dict(a=1.6, kappa0=10.0, n_cells=40, dt=0.01, t_end=15.0, stop_after_first_peak=True,
+        dict(a=1.6, kappa0=10.0, n_cells=40, dt=0.01, t_end=15.0, until="first-peak",
              scheme=Scheme(control=StepControl(), long_steps=LongSteps())),
     ],
 )  # fmt: skip
 def test_the_march_stops_where_integrate_would(monkeypatch, kwargs):
-    compiled = buckling.simulate(on_failure="return", **kwargs)
+    run = {"snapshots": kwargs.pop("snapshots", ()), "on_failure": "return"}
+    compiled = buckling.simulate(Scene(**kwargs), **run)
     asked = as_python(monkeypatch)
-    python = buckling.simulate(on_failure="return", **kwargs)
+    python = buckling.simulate(Scene(**kwargs), **run)
     assert asked  # the Python path really consulted the test
     same_run(compiled, python)
     assert not compiled.stopped.startswith(("t_end", "failed"))
 
 
 def test_the_contact_run_ends_at_self_contact_and_the_peak_run_after_the_peak():
-    run = buckling.simulate(a=16.0, kappa0=10.0, n_cells=100, dt=0.005, t_end=4.0, scheme=CONTROL)
+    run = buckling.simulate(
+        Scene(a=16.0, kappa0=10.0, n_cells=100, dt=0.005, t_end=4.0, scheme=CONTROL)
+    )
     assert run.stopped.startswith("self-contact at t = ")
-    peak = buckling.simulate(
-        a=16.0, kappa0=10.0, n_cells=100, dt=0.005, t_end=4.0, scheme=CONTROL,
-        stop_after_first_peak=True,
-    )  # fmt: skip
+    peak = buckling.simulate(Scene(a=16.0, kappa0=10.0, n_cells=100, dt=0.005, t_end=4.0, scheme=CONTROL, until="first-peak"))  # fmt: skip
     assert peak.stopped.startswith("first peak of |u3(L)| passed at t = ")
     u = np.abs(peak.u3_end)
     assert u[-1] < PEAK_FALL * u.max() <= PEAK_FALL * u[:-1].max()  # stopped at the fall
@@ -98,14 +99,15 @@ def test_a_compiled_stop_is_consulted_at_the_checks_and_snapshots(monkeypatch, s
         return made[-1]
 
     monkeypatch.setattr(buckling, "scene_stop", counted)
-    kw = dict(a=1.6, kappa0=10.0, n_cells=10, dt=0.05, t_end=3.0, stop_at_contact=False,
-              stop_after_first_peak=True, snapshots=[0.5, 1.025, 3.0], scheme=scheme)  # fmt: skip
-    buckling.simulate(check_every=check_every, **kw)
+    kw = dict(a=1.6, kappa0=10.0, n_cells=10, dt=0.05, t_end=3.0, until="first-peak",
+              scheme=scheme)  # fmt: skip
+    run = dict(stop_at_contact=False, snapshots=[0.5, 1.025, 3.0], check_every=check_every)
+    buckling.simulate(Scene(**kw), **run)
     n_steps = 60
     levels = {i for i in range(1, n_steps) if i % check_every == 0} | {10, 20}
     assert made[0].state[1] == len(levels)
     made.clear()
     asked = []
     monkeypatch.setattr(buckling, "scene_stop", lambda *a, **k: lambda t, y: asked.append(t))
-    buckling.simulate(check_every=check_every, **kw)
+    buckling.simulate(Scene(**kw), **run)
     assert len(asked) == len(levels)

@@ -1,5 +1,7 @@
 """Step-size control (genalpha.control) and the three failure messages of the buckling scene."""
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
@@ -88,20 +90,9 @@ def test_constant_steps_with_control_are_bitwise_fixed_steps():
 
 
 # ------------------------------------------------------------------ rejection and retry
-def _whip(scheme, **kw):
+def _whip(scheme, **run):
     sc = Scene(a=16.0, kappa0=10.0, n_cells=50, dt=0.01, scheme=scheme)
-    return buckling.simulate(
-        sc.rod,
-        a=16.0,
-        kappa0=10.0,
-        n_cells=50,
-        dt=0.01,
-        t_end=sc.duration(),
-        perturbation=sc.seed,
-        scheme=scheme,
-        progress=False,
-        **kw,
-    )
+    return buckling.simulate(replace(sc, t_end=sc.duration()), progress=False, **run)
 
 
 def test_rejected_steps_are_retried_with_smaller_steps():
@@ -141,7 +132,9 @@ def test_three_causes_three_messages():
         Ends("both", ("k3", "u3", "w1", "w2", "u1", "u2"), ("u3", "w1", "w2", "w3", "u1", "u2"))
     rod = Rod()
     with pytest.warns(buckling.GridWarning), pytest.raises(GridTooCoarseError) as coarse:
-        buckling.simulate(rod, a=1000.0, n_cells=50, dt=20.0, t_end=200.0, progress=False)
+        buckling.simulate(
+            Scene(rod=rod, a=1000.0, n_cells=50, dt=20.0, t_end=200.0, kappa0=0.0), progress=False
+        )
     assert "first 10 steps" in str(coarse.value) and "far too large" in str(coarse.value)
     assert coarse.value.step <= 10
     with pytest.raises(PostBucklingError, match="post-buckling whip") as whip:
@@ -187,13 +180,15 @@ def test_energy_balance_closes_at_second_order_before_the_onset(quadrature):
     defects = []
     for dt in (0.01, 0.005, 0.0025):
         run = buckling.simulate(
-            a=16.0,
-            kappa0=10.0,
-            n_cells=50,
-            dt=dt,
-            t_end=1.0,
+            Scene(
+                a=16.0,
+                kappa0=10.0,
+                n_cells=50,
+                dt=dt,
+                t_end=1.0,
+                scheme=ga.Scheme(quadrature=quadrature),
+            ),
             snapshots=np.arange(0.0, 1.0 + dt / 2, dt),
-            scheme=ga.Scheme(quadrature=quadrature),
             progress=False,
         )
         eb = energy_balance(run)

@@ -23,6 +23,7 @@ from dyntorsion.buckling.loading import (
     history_from_params,
 )
 from dyntorsion.buckling.onset import detect_onset
+from dyntorsion.buckling.scene import Scene
 from dyntorsion.buckling.turning import TurnHold
 from dyntorsion.model.ends import Ends, IllPosedEndsError
 from dyntorsion.studies import fidelity
@@ -74,17 +75,14 @@ def test_an_ill_posed_set_never_reaches_the_first_step(monkeypatch):
 
     monkeypatch.setattr(B, "integrate", lambda *a, **k: pytest.fail("integrate was called"))
     with pytest.raises(IllPosedEndsError, match="inextensibility"):
-        simulate(
-            a=1.6, t_end=1.0, **COARSE,
-            ends=Ends("both-u3", ENDS["clamped"].left, ("w1", "w2", "w3", "u1", "u2", "u3")),
-        )  # fmt: skip
+        simulate(Scene(a=1.6, t_end=1.0, **COARSE, ends=Ends("both-u3", ENDS["clamped"].left, ("w1", "w2", "w3", "u1", "u2", "u3"))))  # fmt: skip
 
 
 def test_the_onset_twist_of_a_nonlinear_history_is_read_from_the_run():
     """kappa3(0, t) = 10 + 0.5 t^2: the reported twist is the history at t_c (the old
     code reported kappa0 + a t_c with a the run's nonexistent rate)."""
     hist = Polynomial((10.0, 0.0, 0.5))
-    run = simulate(history=hist, n_cells=40, dt=0.01, t_end=8.0, on_failure="return")
+    run = simulate(Scene(history=hist, n_cells=40, dt=0.01, t_end=8.0), on_failure="return")
     onset = detect_onset(run)
     assert onset.kappa3 == pytest.approx(10.0 + 0.5 * onset.t_c**2, rel=1e-14)
     np.testing.assert_allclose(run.kappa3_left, hist(run.t), rtol=1e-9, atol=1e-9)
@@ -97,8 +95,7 @@ def test_the_onset_twist_of_a_nonlinear_history_is_read_from_the_run():
 
 def test_axial_load_starts_in_equilibrium_and_is_applied_at_the_far_end():
     T = 2e-6
-    run = simulate(a=1.0, kappa0=5.0, tension=AxialLoad(T, 1e-7), t_end=2.0, **COARSE, perturbation=0.0,
-                   snapshots=[0.0, 2.0])  # fmt: skip
+    run = simulate(Scene(a=1.0, kappa0=5.0, tension=AxialLoad(T, 1e-7), t_end=2.0, **COARSE, seed=0.0), snapshots=[0.0, 2.0])  # fmt: skip
     n3 = run.run.snapshots[:, :, 11]
     np.testing.assert_allclose(n3[0], T, rtol=1e-12)  # n3 = T along the rod at t = 0
     np.testing.assert_allclose(n3[-1, -1], T + 1e-7 * 2.0, rtol=1e-9)
@@ -110,12 +107,10 @@ def test_axial_load_starts_in_equilibrium_and_is_applied_at_the_far_end():
 def test_every_named_end_set_runs(name):
     t_end = 1.0
     if ENDS[name].driven == "w3":  # rotation control: the history is the end's spin
-        run = simulate(history=TurnHold(0.1, 0.8, tau=0.1, pretwist=10.0), ends=name,
-                       t_end=t_end, on_failure="return", **COARSE)  # fmt: skip
+        run = simulate(Scene(history=TurnHold(0.1, 0.8, tau=0.1, pretwist=10.0), ends=name, t_end=t_end, **COARSE), on_failure="return")  # fmt: skip
         np.testing.assert_allclose(run.omega3_left, run.history(run.t), rtol=1e-9, atol=1e-9)
     else:
-        run = simulate(a=1.6, kappa0=10.0 if name != "clamped-free" else 0.0, ends=name,
-                       t_end=t_end, on_failure="return", **COARSE)  # fmt: skip
+        run = simulate(Scene(a=1.6, kappa0=10.0 if name != "clamped-free" else 0.0, ends=name, t_end=t_end, **COARSE), on_failure="return")  # fmt: skip
         np.testing.assert_allclose(run.kappa3_left, run.history(run.t), rtol=1e-9, atol=1e-9)
     assert run.t[-1] == pytest.approx(t_end) and np.all(np.isfinite(run.u3_end))
 
@@ -164,7 +159,7 @@ def test_table1_presets_are_unchanged_by_the_scaling():
 
 def test_a_step_far_beyond_the_tested_range_warns():
     with pytest.warns(GridWarning, match="T0"):
-        simulate(STEEL, a=1.6, kappa0=10.0, n_cells=20, dt=0.02, t_end=0.04)
+        simulate(Scene(rod=STEEL, a=1.6, kappa0=10.0, n_cells=20, dt=0.02, t_end=0.04))
 
 
 # ------------------------------------------------------------------ property: any end set
@@ -192,7 +187,7 @@ def test_any_end_set_is_refused_with_a_reason_or_runs(left, right):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", GridWarning)
         run = simulate(
-            a=1.0, kappa0=5.0, n_cells=8, dt=0.01, t_end=0.05, ends=e, stop_at_contact=False
+            Scene(a=1.0, kappa0=5.0, n_cells=8, dt=0.01, t_end=0.05, ends=e), stop_at_contact=False
         )
     assert np.all(np.isfinite(run.u3_end))
     np.testing.assert_allclose(run.kappa3_left, 5.0 + run.t, rtol=1e-9, atol=1e-9)

@@ -16,6 +16,7 @@ from hypothesis import strategies as st
 
 from dyntorsion import Rod
 from dyntorsion import buckling as b
+from dyntorsion.buckling.loading import Ramp
 from dyntorsion.buckling.onset import continuous_window_fit, detect_onset
 from dyntorsion.buckling.scene import Scene, run_scene
 
@@ -26,7 +27,7 @@ def _run(t, u, a=2.0, kappa0=1.0):
     return b.BucklingRun(
         t=t, u3_end=u, kappa3_left=kappa0 + a * t, kappa3_right=kappa0 + a * t,
         omega3_left=0 * t, omega3_right=0 * t, theta_left=0 * t,
-        run=SimpleNamespace(stopped="t_end"), rod=Rod.paper(), params={"a": a, "kappa0": kappa0},
+        run=SimpleNamespace(stopped="t_end"), rod=Rod.paper(), history=Ramp(a=a, kappa0=kappa0),
     )  # fmt: skip
 
 

@@ -12,6 +12,7 @@ from hypothesis import strategies as st
 
 from dyntorsion import Rod
 from dyntorsion import buckling as b
+from dyntorsion.buckling.loading import Ramp
 from dyntorsion.buckling.onset_rules import RULES, onsets_by_rule, steepest_tangent
 
 
@@ -26,7 +27,7 @@ def _run(t, u, a=2.0, kappa0=1.0):
         theta_left=0 * t,
         run=SimpleNamespace(stopped="t_end"),
         rod=Rod.paper(),
-        params={"a": a, "kappa0": kappa0},
+        history=Ramp(a=a, kappa0=kappa0),
     )
 
 

@@ -53,10 +53,7 @@ def test_the_smooth_start_begins_unstressed_and_joins_the_ramp():
 def test_a_step_start_sends_the_square_wave_of_section_5_down_the_rod():
     rod = Rod()
     transit = rod.L / rod.c
-    run = simulate(
-        rod, a=1e-6, kappa0=10.0, n_cells=200, dt=transit / 100, t_end=1.9 * transit,
-        start="unstressed", perturbation=0.0, stop_at_contact=False, progress=False,
-    )  # fmt: skip
+    run = simulate(Scene(rod=rod, a=1e-6, kappa0=10.0, n_cells=200, dt=transit / 100, t_end=1.9 * transit, start="step", seed=0.0), stop_at_contact=False, progress=False)  # fmt: skip
     before = run.t < 0.8 * transit
     after = run.t > 1.2 * transit
     assert run.kappa3_left[0] == 0.0 and run.kappa3_left[1] == pytest.approx(10.0)  # the jump
@@ -66,9 +63,9 @@ def test_a_step_start_sends_the_square_wave_of_section_5_down_the_rod():
 
 
 def test_without_a_pretwist_both_starts_are_the_same_run():
-    kw = dict(a=16.0, kappa0=0.0, n_cells=20, dt=0.01, t_end=0.5, progress=False)
-    pre = simulate(**kw, start="pretwisted")
-    uns = simulate(**kw, start="unstressed")
+    kw = dict(a=16.0, kappa0=0.0, n_cells=20, dt=0.01, t_end=0.5)
+    pre = simulate(Scene(**kw, start="pretwisted"), progress=False)
+    uns = simulate(Scene(**kw, start="step"), progress=False)
     assert np.array_equal(pre.u3_end, uns.u3_end) and np.array_equal(pre.t, uns.t)
 
 

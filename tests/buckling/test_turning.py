@@ -73,8 +73,7 @@ def test_a_history_must_be_the_quantity_the_ends_prescribe():
     with pytest.raises(IllPosedEndsError, match="twist history"):
         Scene(history=TURN, t_end=1.0)
     with pytest.raises(ValueError, match="frame='body'"):
-        simulate(history=TURN, ends="clamped-turned", n_cells=10, dt=0.1, t_end=1.0,
-                 perturbation=Perturbation(frame="lab"))  # fmt: skip
+        simulate(Scene(history=TURN, ends="clamped-turned", n_cells=10, dt=0.1, t_end=1.0, seed=Perturbation(frame="lab")))  # fmt: skip
 
 
 def test_a_contact_scene_refuses_a_seed_it_would_not_apply():
@@ -90,8 +89,7 @@ def test_turning_slowly_twists_the_straight_rod_uniformly():
     rod = Rod()
     turns = 0.5 * 11.2335 * rod.L / math.tau  # half of kappa_cri
     hist = TurnHold(turns=turns, t_turn=40.0, tau=2.0)
-    run = simulate(history=hist, ends="clamped-turned", rod=rod, n_cells=20, dt=0.05, t_end=50.0,
-                   perturbation=0.0, on_failure="return", snapshots=[50.0])  # fmt: skip
+    run = simulate(Scene(history=hist, ends="clamped-turned", rod=rod, n_cells=20, dt=0.05, t_end=50.0, seed=0.0), on_failure="return", snapshots=[50.0])  # fmt: skip
     assert ENDS["clamped-turned"].driven == "w3"
     np.testing.assert_allclose(run.omega3_left, hist(run.t), rtol=1e-9, atol=1e-12)
     # theta_left is the trapezoid rule on w3(0, t): error <= t dt^2 / 12 max |w3''|

@@ -14,6 +14,7 @@ import pytest
 
 from dyntorsion import Rod
 from dyntorsion import waves as w
+from dyntorsion.buckling.scene import Scene
 from dyntorsion.buckling.simulation import (
     TESTED_COURANT,
     TESTED_DT_OVER_T0,
@@ -104,16 +105,18 @@ def _sound_or_says_why(rod, a, n_cells, dt, t_end, lam_t, far, caught):
 
     if dt > t_end:  # one step would overshoot t_end: refused before the run (issue 17)
         with pytest.raises(ValueError, match=r"dt=.*exceeds.*t_end"):
-            simulate(rod, a=a, kappa0=10.0, n_cells=n_cells, dt=dt, t_end=t_end)
+            simulate(Scene(rod=rod, a=a, kappa0=10.0, n_cells=n_cells, dt=dt, t_end=t_end))
         return
-    run = simulate(  # a ConvergenceError fails the test: every extreme here converges
-        rod,
-        a=a,
-        kappa0=10.0,
-        n_cells=n_cells,
-        dt=dt,
-        t_end=t_end,
-        scheme=Scheme(lam_t=lam_t),
+    run = simulate(
+        Scene(
+            rod=rod,
+            a=a,
+            kappa0=10.0,
+            n_cells=n_cells,
+            dt=dt,
+            t_end=t_end,
+            scheme=Scheme(lam_t=lam_t),
+        ),
         stop_at_contact=False,
         progress=False,
     )
@@ -128,7 +131,9 @@ def _sound_or_says_why(rod, a, n_cells, dt, t_end, lam_t, far, caught):
 def test_1e5_steps_of_the_prebuckling_rod():
     """100 s of slow twisting below the critical twist at dt = 1e-3: straight, finite."""
     run = simulate(
-        a=0.01, kappa0=10.0, n_cells=20, dt=1e-3, t_end=100.0, stop_at_contact=False, progress=False
+        Scene(a=0.01, kappa0=10.0, n_cells=20, dt=1e-3, t_end=100.0),
+        stop_at_contact=False,
+        progress=False,
     )
     assert run.t.size == 100_001
     assert np.all(np.isfinite(run.u3_end)) and np.max(np.abs(run.u3_end)) < 1e-6

@@ -14,7 +14,7 @@ from dyntorsion.genalpha.march import closes, make_gate
 from dyntorsion.store.results import digest
 
 DT = 2.0**-6  # so that factor * dt is exact
-SCENE = dict(a=1.6, kappa0=10.0, n_cells=10, t_end=3.0, stop_at_contact=False)
+SCENE = dict(a=1.6, kappa0=10.0, n_cells=10, t_end=3.0)
 
 
 def long(**kw) -> ga.Scheme:
@@ -86,8 +86,10 @@ def test_error_estimate_vanishes_on_a_quadratic_response_and_the_limit_closes_fi
 def test_a_long_phase_to_the_end_is_the_run_with_the_long_step():
     """With a gate that never closes, the run takes the levels of a run at factor * dt,
     bit for bit (the same steps of eq 10-12 with the coefficients of the long step)."""
-    runs = buckling.simulate(dt=DT, scheme=long(factor=4, limit=1e9, tol=0.99), **SCENE)
-    fixed = buckling.simulate(dt=4 * DT, **SCENE)
+    runs = buckling.simulate(
+        Scene(dt=DT, scheme=long(factor=4, limit=1e9, tol=0.99), **SCENE), stop_at_contact=False
+    )
+    fixed = buckling.simulate(Scene(dt=4 * DT, **SCENE), stop_at_contact=False)
     meta = runs.run.meta["long_steps"]
     assert meta == {"factor": 4, "steps": 48, "until": 3.0, "ended": "t_end"}
     np.testing.assert_array_equal(runs.t, fixed.t)
@@ -97,7 +99,9 @@ def test_a_long_phase_to_the_end_is_the_run_with_the_long_step():
 
 
 def test_the_phase_ends_where_the_gauge_reaches_the_limit_and_goes_on_at_dt():
-    run = buckling.simulate(dt=DT, scheme=long(factor=4, limit=5e-4, tol=0.99), **SCENE).run
+    run = buckling.simulate(
+        Scene(dt=DT, scheme=long(factor=4, limit=5e-4, tol=0.99), **SCENE), stop_at_contact=False
+    ).run
     meta = run.meta["long_steps"]
     assert meta["ended"] == "limit" and 0 < meta["steps"] < 48
     until = meta["until"]
@@ -114,7 +118,9 @@ def test_the_phase_ends_where_the_gauge_reaches_the_limit_and_goes_on_at_dt():
 
 def test_a_snapshot_off_the_long_levels_ends_the_phase_and_is_landed_on():
     run = buckling.simulate(
-        dt=DT, scheme=long(factor=4, limit=1e9, tol=0.99), snapshots=[0.5, 1.0 + DT], **SCENE
+        Scene(dt=DT, scheme=long(factor=4, limit=1e9, tol=0.99), **SCENE),
+        stop_at_contact=False,
+        snapshots=[0.5, 1.0 + DT],
     ).run
     assert run.meta["long_steps"]["ended"] == "landing"
     assert run.meta["long_steps"]["until"] == 1.0
@@ -131,7 +137,4 @@ def test_onset_with_long_steps_matches_the_fixed_grid_and_refuses_a_coarse_rise(
     assert abs(fast["t_c"] - fixed["t_c"]) < 0.01 * fixed["uncertainty_t"]
     coarse = Scene(**base, scheme=long(limit=1e9, tol=0.99))
     with pytest.raises(ValueError, match="LongSteps.limit"):
-        buckling.detect_onset(buckling.simulate(
-            a=1.6, kappa0=10.0, n_cells=20, dt=0.01, t_end=coarse.duration(),
-            scheme=coarse.scheme, stop_after_first_peak=True,
-        ))  # fmt: skip
+        buckling.detect_onset(buckling.simulate(Scene(a=1.6, kappa0=10.0, n_cells=20, dt=0.01, t_end=coarse.duration(), scheme=coarse.scheme, until="first-peak")))  # fmt: skip

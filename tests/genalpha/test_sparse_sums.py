@@ -9,7 +9,7 @@ import pytest
 from dyntorsion import Rod
 from dyntorsion import genalpha as ga
 from dyntorsion.buckling.loading import EQ30
-from dyntorsion.genalpha.discrete import Pattern, pattern, prepare_step, residual, setup
+from dyntorsion.genalpha.discrete import Pattern, Start, pattern, prepare_step, residual, setup
 from dyntorsion.model.cosserat import IDX, Cosserat
 
 
@@ -42,7 +42,7 @@ def _rod_case(quadrature: str, rng):
     y0 += 1e-2 * ys * rng.normal(size=y0.shape)
     rate0 = 1e-2 * ys * rng.normal(size=y0.shape)
     scheme = ga.Scheme(quadrature=quadrature, lam_t=-0.5)
-    con, w, _ = setup(system, scheme, n, 1.0 / n, dt, left, right, y0, rate0)
+    con, w, _ = setup(system, scheme, n, 1.0 / n, dt, left, right, Start(y0, rate0))
     gL, gR = left.at(np.array([dt]))[0], right.at(np.array([dt]))[0]
     return system, con, w, gL, gR, ys
 

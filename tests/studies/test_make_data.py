@@ -63,3 +63,27 @@ def test_make_data_runs_every_preset_the_package_defines():
     assert _every(["fig10", "tension"], PRESETS) == ["fig10", "tension"]
     makefile = (Path(__file__).resolve().parents[2] / "Makefile").read_text()
     assert "--preset all" in makefile and "_PRESETS :=" not in makefile
+
+
+def test_make_data_computes_what_the_paper_figures_read():
+    """``make data`` is ``--preset paper``: every preset a figure page reads is in
+    :data:`~dyntorsion.studies.presets.PAPER`, and ``make data-studies`` covers the rest."""
+    import re
+
+    from dyntorsion.app.cli import _every, parser
+    from dyntorsion.studies.presets import GROUPS, PAPER, PRESETS
+
+    assert set(PAPER) <= set(PRESETS)
+    args = parser().parse_args(["sweep", "--preset", "paper", "--preset", "fig10"])
+    assert _every(args.preset, PRESETS, GROUPS) == list(PAPER)  # each once, in order
+    assert _every(["all"], PRESETS, GROUPS) == list(PRESETS)
+    docs = Path(__file__).resolve().parents[2] / "docs"
+    read = {
+        name
+        for page in (docs / "figures").glob("*.md")
+        for name in re.findall(r"(?:cached|preset)\(\"([a-z0-9-]+)\"", page.read_text())
+    }
+    assert read and read <= set(PAPER), sorted(read - set(PAPER))
+    makefile = (docs.parent / "Makefile").read_text()
+    data = makefile[makefile.index("\ndata:") : makefile.index("\ndata-studies:")]
+    assert "--preset paper" in data and "--preset all" not in data

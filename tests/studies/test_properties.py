@@ -26,6 +26,8 @@ from dyntorsion import Rod
 from dyntorsion import waves as W
 from dyntorsion.buckling import STATUSES, GridWarning, Perturbation, simulate
 from dyntorsion.buckling.delay_law import fit_power_law
+from dyntorsion.buckling.loading import Ramp
+from dyntorsion.buckling.scene import Scene
 from dyntorsion.studies import sweep as S
 
 FEW = max(3, settings.default.max_examples // 4)  # for examples that run a scene or a process
@@ -83,7 +85,17 @@ SIM_ARGS = {
     "check_every": st.one_of(st.none(), st.integers(-1, 5), JUNK),
     "snapshots": st.one_of(st.just(()), st.lists(number(0.0, 0.5), max_size=2)),
 }
-SIM_NAMES = ["a", "kappa0", "n_cells", "dt", "t_end", "perturbation", "check_every", "snapshots"]
+SIM_NAMES = ["a", "kappa0", "n_cells", "dt", "t_end", "seed", "check_every", "snapshots"]
+RUN_OPTIONS = ("check_every", "snapshots")
+
+
+def _simulate(kw):
+    """simulate() of a Scene with the ramp kappa0 + a t (any sign of a) and kw's options."""
+    run = {k: kw[k] for k in RUN_OPTIONS}
+    ramp = Ramp(a=kw["a"], kappa0=kw["kappa0"])
+    scene = Scene(history=ramp, n_cells=kw["n_cells"], dt=kw["dt"], t_end=kw["t_end"],
+                  seed=kw["perturbation"])  # fmt: skip
+    return simulate(scene, progress=False, on_failure="return", **run)
 
 
 def _steps(kw) -> float:
@@ -99,7 +111,7 @@ def test_simulate_honours_the_imposed_twist_or_names_the_parameter(kw):
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", GridWarning)
-            run = simulate(**kw, progress=False, on_failure="return")
+            run = _simulate(kw)
     except (ValueError, TypeError) as err:
         event(f"simulate: {type(err).__name__}")
         names_one_of(err, SIM_NAMES)

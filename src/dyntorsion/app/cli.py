@@ -1,4 +1,4 @@
-"""The command line: ``dyntorsion info``, ``buckle``, ``sweep``, ``linear``, ``fit``.
+"""The command line: ``dyntorsion info``, ``warmup``, ``buckle``, ``sweep``, ``linear``, ``fit``.
 
 ``python -m dyntorsion ...`` is the same program.
 """
@@ -18,7 +18,7 @@ import numpy as np
 from .. import __version__
 from ..buckling.scene import Scene, run_scene
 from ..store.results import ON_CORRUPT, ON_STALE
-from ..studies.presets import PRESETS, preset
+from ..studies.presets import GROUPS, PRESETS, preset
 from ..studies.sweep import run_sweep
 from .cli_fit import fit, fit_rows, print_fit
 from .cli_options import add_scene_options, parse_rates, scene_from
@@ -26,6 +26,8 @@ from .cli_rtol import add_rtol_options, buckle_rtol, result_json, sweep_rtol
 from .contact_cli import add_contact_options, buckle_contact
 from .faults import EXIT_INPUT, EXIT_INTERRUPTED, blank_value, describe
 from .info import info as _info
+from .plugins import PluginError, load_plugins, plugins_in
+from .warmup import add_warmup
 
 
 def _peak_twist(scene: Scene) -> float:
@@ -105,20 +107,23 @@ def _stopped(row: dict) -> str:
     return row["stopped"]
 
 
-#: the ``--preset`` value that names every preset of a command (``make data`` uses it)
+#: the ``--preset`` value that names every preset of a command (``make data-studies`` uses it)
 EVERY = "all"
 
 
-def _every(names: list[str], presets: dict) -> list[str]:
-    """The preset names a ``--preset`` list means: ``all`` stands for every one, in order."""
-    return list(presets) if EVERY in names else list(names)
+def _every(names: list[str], presets: dict, groups: dict | None = None) -> list[str]:
+    """The preset names a ``--preset`` list means, in order and each once: a group name
+    (``groups``, e.g. ``paper``) stands for its presets, ``all`` for every one."""
+    groups = {EVERY: tuple(presets)} | (groups or {})
+    out = [each for name in names for each in groups.get(name, (name,))]
+    return list(dict.fromkeys(out))
 
 
 def _sweep_scenes(args: argparse.Namespace) -> list[Scene]:
     if args.preset:
         if args.rates:
             raise ValueError("--preset and --rates: give one of them, not both")
-        return [sc for name in _every(args.preset, PRESETS) for sc in preset(name)]
+        return [sc for name in _every(args.preset, PRESETS, GROUPS) for sc in preset(name)]
     if not args.rates:
         raise ValueError(
             "--rates or --preset: give one (e.g. --rates 0.1,0.4,1.6 or geom:0.05:16:12)"
@@ -254,6 +259,7 @@ def parser() -> argparse.ArgumentParser:
     sub.add_parser(
         "info", help="version, the default store and why, python, numba and the arithmetic"
     ).set_defaults(func=_info)
+    add_warmup(sub)
 
     b = sub.add_parser("buckle", help="one buckling scene: print t_c and kappa3")
     b.add_argument(
@@ -275,8 +281,9 @@ def parser() -> argparse.ArgumentParser:
     s.add_argument(
         "--preset",
         action="append",
-        choices=[*sorted(PRESETS), EVERY],
-        help="a named sweep (repeatable; 'all': every one); see dyntorsion.studies.presets.PRESETS",
+        choices=[*sorted(PRESETS), *GROUPS],
+        help="a named sweep (repeatable; 'paper': those the paper's figures read, 'all': every "
+        "one); see dyntorsion.studies.presets.PRESETS",
     )
     s.add_argument("--rates", default=None, help="'0.1,0.4,1.6' or 'geom:LO:HI:N'")
     add_scene_options(s, kappa0=10.0)
@@ -362,6 +369,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     blank = blank_value(argv)
     if blank:
         print(f"dyntorsion: error: {blank}", file=sys.stderr)
+        return EXIT_INPUT
+    try:  # before the options are read: a plugin's kinds and end sets become choices
+        load_plugins(plugins_in(argv))
+    except PluginError as err:
+        if debug:
+            raise
+        print(f"dyntorsion: error: {err}", file=sys.stderr)
         return EXIT_INPUT
     args = parser().parse_args([a for a in argv if a != "--debug"])
     if args.max_time is not None and not args.max_time > 0:

@@ -70,7 +70,6 @@ def buckle_contact(args: argparse.Namespace, scene: Scene) -> int:
         implicit=not args.contact_lagged, max_step=args.contact_max_step,
         max_cell_bend=args.contact_max_cell_bend,
     )  # fmt: skip
-    _check_min_arc(contact, scene)
     cs = ContactScene(scene, contact)
     unsaved = None
     if getattr(args, "store", None):
@@ -86,18 +85,6 @@ def buckle_contact(args: argparse.Namespace, scene: Scene) -> int:
     if unsaved is not None:
         raise unsaved
     return 0 if result["stopped"] == "t_end" else 1
-
-
-def _check_min_arc(contact: Contact, scene: Scene) -> None:
-    """Refuse a ``min_arc`` [diameters] no shorter than the rod: no two parts of it could
-    touch (and the plectoneme count of such a run overflows)."""
-    rod = scene.rod
-    if not contact.min_arc * rod.thickness < rod.L:
-        raise ValueError(
-            f"contact min_arc={contact.min_arc!r} diameters: allowed range [1, "
-            f"{rod.L / rod.thickness:g}), below the rod's length L / D (no two parts of it "
-            "could touch)"
-        )
 
 
 def _print(args: argparse.Namespace, result: dict) -> None:

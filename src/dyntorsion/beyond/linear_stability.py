@@ -15,7 +15,7 @@ s = L) and the seed f (lateral force per length, complex)::
 (' = d/ds) with w = w' = 0 at s = 0 and s = L (eq 30 in the lateral
 directions).  For a uniform, frozen twist and no spin, w = W exp(lambda t) and
 lambda^2 changes sign at the static critical twist of eq (32): the static limit
-of (L1) is the equation of :func:`~dyntorsion.buckling.statics.critical_twist_numerical`.
+of (L1) is the equation of :func:`~dyntorsion.buckling.chebyshev.critical_twist_numerical`.
 
 Galerkin discretisation: w = sum_j q_j(t) phi_j(s) over the first ``modes``
 clamped-clamped beam modes phi_j (real, closed form), and (L1)
@@ -58,7 +58,7 @@ import scipy.linalg
 import scipy.optimize
 
 from ..buckling.onset import reference_level
-from ..buckling.seed import STATED, Perturbation
+from ..buckling.seed import SEED_FORMS, STATED, Perturbation, Point, Uniform
 from ..buckling.statics import critical_twist
 from ..model.rod import Rod
 from . import passage as passage_kernel
@@ -318,8 +318,14 @@ class LateralModel:
             )
         d = np.asarray(seed.direction, dtype=float)
         lateral = (d[0] + 1j * d[1]) * seed.magnitude
-        if seed.form == "uniform":
+        form = SEED_FORMS[seed.form]
+        if issubclass(form, Uniform):
             return (self._w * lateral)[:, None] * self._phi, self._s
+        if not issubclass(form, Point):
+            raise ValueError(
+                f"perturbation form={seed.form!r}: the linear passage takes the forms "
+                "'uniform' and 'point' only"
+            )
         if not 0 <= seed.location <= self.rod.L:
             raise ValueError(
                 f"perturbation location={seed.location!r} must lie in [0, L] = [0, {self.rod.L}]"

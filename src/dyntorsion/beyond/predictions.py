@@ -43,10 +43,11 @@ class Prediction:
 
     def __post_init__(self) -> None:
         sc = self.scene
+        sc.ends.require("linear", "the linear prediction covers the paper's scene")
         if (
             sc.history is not None
             or not sc.tension.is_zero
-            or sc.ends.name != "clamped"
+            or sc.loads
             or sc.start != "pretwisted"
             or not sc.seed.constant
         ):

@@ -14,12 +14,15 @@
 * :mod:`.delay_law` -- the delay law, eqs (33)-(34), fitted to a rate sweep.
 """
 
+from .chebyshev import critical_twist_numerical
 from .delay_law import PowerLawFit, fit_power_law
 from .onset import STATUSES, Onset, check_window, classify_onset, detect_onset
 from .run import BucklingRun
+from .scene import run_scene
 from .seed import Perturbation
 from .simulation import GridWarning, check_grid, simulate
-from .statics import M_CRI_MP, critical_moment, critical_twist, critical_twist_numerical, m_cri
+from .spec import Scene
+from .statics import M_CRI_MP, critical_moment, critical_twist, m_cri
 
 __all__ = [
     "M_CRI_MP",
@@ -29,6 +32,8 @@ __all__ = [
     "critical_twist_numerical",
     "Perturbation",
     "BucklingRun",
+    "Scene",
+    "run_scene",
     "simulate",
     "GridWarning",
     "check_grid",

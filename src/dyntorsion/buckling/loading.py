@@ -28,11 +28,21 @@ from typing import Any
 import numpy as np
 
 from ..model.ends import ENDS, EQ30, Ends, IllPosedEndsError, ends, ends_from_params
-from .history import History, _finite
-from .turning import TurnHold
+from .history import HISTORIES, History, finite_value, history_from_params
+from .loads import (
+    AXIAL_LOADS,
+    DISTRIBUTED_LOADS,
+    AxialLoad,
+    DistributedLoad,
+    EndLoad,
+    distributed_from_params,
+    load_from_params,
+)
+from .turning import TurnHold  # registers the spin history turn-hold
 
 __all__ = [
     "History",
+    "HISTORIES",
     "Ramp",
     "SmoothStart",
     "Polynomial",
@@ -40,6 +50,13 @@ __all__ = [
     "Tabulated",
     "Custom",
     "AxialLoad",
+    "EndLoad",
+    "DistributedLoad",
+    "AXIAL_LOADS",
+    "DISTRIBUTED_LOADS",
+    "load_from_params",
+    "distributed_from_params",
+    "TurnHold",
     "Ends",
     "ENDS",
     "EQ30",
@@ -48,6 +65,10 @@ __all__ = [
     "history_from_params",
     "ends_from_params",
 ]
+
+
+#: t / tau past which exp(-(t / tau)^4) is 0 in floating point (caps x so that x**4 is finite)
+_FLAT = 1e10
 
 
 @dataclass(frozen=True)
@@ -59,8 +80,8 @@ class Ramp(History):
     kind = "ramp"
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "a", _finite("a", self.a))
-        object.__setattr__(self, "kappa0", _finite("kappa0", self.kappa0))
+        object.__setattr__(self, "a", finite_value("a", self.a))
+        object.__setattr__(self, "kappa0", finite_value("kappa0", self.kappa0))
 
     def __call__(self, t):
         return self.kappa0 + self.a * np.asarray(t, dtype=float)
@@ -89,13 +110,14 @@ class SmoothStart(History):
 
     def __post_init__(self) -> None:
         for name in ("a", "kappa0", "tau"):
-            object.__setattr__(self, name, _finite(name, getattr(self, name)))
+            object.__setattr__(self, name, finite_value(name, getattr(self, name)))
         if self.tau <= 0:
             raise ValueError(f"smooth start tau={self.tau} must be > 0 s")
 
     def __call__(self, t):
         t = np.asarray(t, dtype=float)
-        x = np.maximum(t / self.tau, 0.0)
+        # beyond x = 1e10 the transition is 1 to the last bit; the cap keeps x**4 finite
+        x = np.clip(t, 0.0, _FLAT * self.tau) / self.tau
         # section 5's f(x) = exp(-x^4) (waves.transitions.smoothing), written out so that
         # the records of this history do not hang on section 5's code (a test ties them)
         return self.kappa0 * -np.expm1(-(x**4)) + self.a * t
@@ -116,7 +138,7 @@ class Polynomial(History):
     kind = "polynomial"
 
     def __post_init__(self) -> None:
-        c = tuple(_finite(f"coefficients[{i}]", v) for i, v in enumerate(self.coefficients))
+        c = tuple(finite_value(f"coefficients[{i}]", v) for i, v in enumerate(self.coefficients))
         if not c:
             raise ValueError("coefficients must hold at least one number")
         object.__setattr__(self, "coefficients", c)
@@ -132,7 +154,9 @@ class Polynomial(History):
 class RampHold(History):
     """A ramp kappa0 + a t rounded smoothly into a hold at ``hold``:
     h = hold + a tau (x - log(1 + e^x)), x = (kappa0 + a t - hold) / (a tau),
-    ``tau`` [s] the time over which the corner is rounded (C-infinity)."""
+    ``tau`` [s] the time over which the corner is rounded (C-infinity).  Evaluated as
+    kappa0 + a t - a tau log(1 + e^x) for x < 0 and hold - a tau log(1 + e^-x) otherwise,
+    the same function without the cancellation of a large ``hold`` against the ramp."""
 
     a: float
     hold: float
@@ -142,15 +166,22 @@ class RampHold(History):
 
     def __post_init__(self) -> None:
         for name in ("a", "hold", "kappa0", "tau"):
-            object.__setattr__(self, name, _finite(name, getattr(self, name)))
+            object.__setattr__(self, name, finite_value(name, getattr(self, name)))
         if self.a <= 0 or self.tau <= 0:
             raise ValueError(f"ramp-hold needs a > 0 and tau > 0 (got a={self.a}, tau={self.tau})")
         if self.hold <= self.kappa0:
             raise ValueError(f"hold={self.hold} must exceed kappa0={self.kappa0}")
 
     def __call__(self, t):
-        x = (self.kappa0 + self.a * np.asarray(t, dtype=float) - self.hold) / (self.a * self.tau)
-        return self.hold + self.a * self.tau * (x - np.logaddexp(0.0, x))
+        # x - log(1 + e^x) = -log(1 + e^-x), written on each side of the corner so that
+        # no large term cancels: the ramp less a tau log(1 + e^x) before it (x < 0), the
+        # hold less a tau log(1 + e^-x) after it; exact to round-off for any hold
+        ramp = self.kappa0 + self.a * np.asarray(t, dtype=float)
+        scale = self.a * self.tau
+        x = (ramp - self.hold) / scale
+        before = ramp - scale * np.log1p(np.exp(np.minimum(x, 0.0)))
+        after = self.hold - scale * np.log1p(np.exp(-np.maximum(x, 0.0)))
+        return np.where(x < 0.0, before, after)
 
     def params(self) -> dict[str, Any]:
         return {
@@ -172,8 +203,8 @@ class Tabulated(History):
     kind = "tabulated"
 
     def __post_init__(self) -> None:
-        t = tuple(_finite(f"t[{i}]", v) for i, v in enumerate(self.t))
-        k = tuple(_finite(f"kappa[{i}]", v) for i, v in enumerate(self.kappa))
+        t = tuple(finite_value(f"t[{i}]", v) for i, v in enumerate(self.t))
+        k = tuple(finite_value(f"kappa[{i}]", v) for i, v in enumerate(self.kappa))
         if len(t) != len(k) or len(t) < 2:
             raise ValueError("t and kappa must hold the same number (>= 2) of points")
         if t[0] != 0.0 or np.any(np.diff(t) <= 0):
@@ -303,7 +334,9 @@ class Custom(History):
         if not callable(self.func):
             raise TypeError(f"func={self.func!r} must be callable")
         p = self.parameters.items() if isinstance(self.parameters, Mapping) else self.parameters
-        object.__setattr__(self, "parameters", tuple(sorted((str(k), _finite(k, v)) for k, v in p)))
+        object.__setattr__(
+            self, "parameters", tuple(sorted((str(k), finite_value(k, v)) for k, v in p))
+        )
 
     def __call__(self, t):
         out = np.asarray(self.func(np.asarray(t, dtype=float), **dict(self.parameters)))
@@ -329,56 +362,11 @@ class Custom(History):
             out["unkeyed"] = why
         return out
 
-
-def history_from_params(p: Mapping[str, Any]) -> History:
-    """The history of a cache key (its ``params()``); a custom history cannot be rebuilt
-    (its function is code, not data)."""
-    q = dict(p)
-    kind = q.pop("kind", None)
-    if kind == "ramp":
-        return Ramp(a=q["a"], kappa0=q["kappa0"])
-    if kind == "smooth-start":
-        return SmoothStart(**q)
-    if kind == "polynomial":
-        return Polynomial(tuple(q["coefficients"]))
-    if kind == "ramp-hold":
-        return RampHold(**q)
-    if kind == "tabulated":
-        return Tabulated(tuple(q["t"]), tuple(q["kappa"]))
-    if kind == "turn-hold":
-        return TurnHold(**q)
-    if kind == "custom":
+    @classmethod
+    def from_params(cls, params: Mapping[str, Any]) -> Custom:
+        """Refused: a custom history's function is code, not data."""
         raise ValueError(
-            f"history {q.get('name')!r} is a custom function: rebuild its Scene in Python "
-            "with the same Custom(name, func, parameters)"
+            f"history {params.get('name')!r} is a custom function: rebuild its Scene in Python "
+            "with the same Custom(name, func, parameters), or define a History subclass with "
+            "a kind (it registers itself and is rebuilt from the store)"
         )
-    raise ValueError(
-        f"history kind={kind!r}; allowed: ramp, smooth-start, polynomial, ramp-hold, tabulated, "
-        "turn-hold, custom"
-    )
-
-
-# ================================================================= axial load
-@dataclass(frozen=True)
-class AxialLoad:
-    """Axial force at the far end, n3(L, t) = T + T_rate t [N]; positive = tension.
-
-    The initial state carries n3 = T along the whole rod (the straight rod under an
-    axial force T is in equilibrium), so a constant load starts without a jolt."""
-
-    T: float = 0.0
-    T_rate: float = 0.0
-
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "T", _finite("tension T", self.T))
-        object.__setattr__(self, "T_rate", _finite("tension rate T_rate", self.T_rate))
-
-    def __call__(self, t):
-        return self.T + self.T_rate * np.asarray(t, dtype=float)
-
-    @property
-    def is_zero(self) -> bool:
-        return self.T == 0.0 and self.T_rate == 0.0
-
-    def params(self) -> dict[str, Any]:
-        return {"T": self.T, "T_rate": self.T_rate}

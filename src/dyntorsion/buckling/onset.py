@@ -327,11 +327,9 @@ def detect_onset(
     t_c, slope, intercept = fit(*window)
     var = {tuple(v): fit(*v)[0] for v in variations}
     unc = max((abs(v - t_c) for v in var.values()), default=0.0)
-    a = run.params.get("a")
+    a = run.history.rate if run.history is not None else None
 
     def twist(time: float) -> float:
-        if a is not None and run.history is None:
-            return run.params["kappa0"] + a * time
         return float(run.end_twist(time))
 
     kappa3 = twist(t_c)

@@ -172,24 +172,24 @@ class EnergyBalance:
 
 def energy_balance(run: BucklingRun) -> EnergyBalance:
     """:class:`EnergyBalance` of a buckling run that kept a snapshot at every level
-    (``simulate(..., snapshots=...)`` with the run's time levels)."""
+    (``simulate(Scene(rod=..., kappa0=0.0), snapshots=...)`` with the run's time levels)."""
     from ..model.cosserat import Cosserat
 
     snaps, t = run.run.snapshots, run.run.snapshot_times
     if t.size < 2:
         raise ValueError("energy_balance needs snapshots at (at least two) time levels")
+    scene = run.scene
     model = Cosserat(
-        run.rod, terms=dict(run.params.get("terms", {})),
-        rotary_inertia_scale=run.params.get("rotary_inertia_scale", 1.0),
-    )  # fmt: skip
-    from .seed import Perturbation
-
-    seed = Perturbation(**{**run.params["perturbation"]})
-    if not seed.constant or run.params.get("start", "pretwisted") != "pretwisted":
+        run.rod, terms=dict(scene.terms), rotary_inertia_scale=scene.rotary_inertia_scale
+    )
+    seed = scene.seed
+    if scene.loads:
+        raise ValueError("energy_balance counts the seed's work only: the scene has loads=")
+    if not seed.constant or not scene.pretwisted:
         raise ValueError(
             "energy_balance covers a constant body-frame seed on the pretwisted rod "
             f"(got seed frame={seed.frame!r}, duration={seed.duration!r}, start="
-            f"{run.params.get('start', 'pretwisted')!r})"
+            f"{scene.start!r})"
         )
     s = run.run.s
     f = seed.force(s, run.rod.L)

@@ -43,9 +43,10 @@ def growth(rod: Rod, kappa: np.ndarray, tension: float | np.ndarray, k_min: floa
     twists ``kappa`` (0 where none grows)."""
     B, M = min(rod.B1, rod.B2), rod.C * np.abs(np.asarray(kappa, float))
     T = np.broadcast_to(np.asarray(tension, float), M.shape)
-    k_star = (3 * M + np.sqrt(np.maximum(9 * M**2 - 32 * B * T, 0.0))) / (8 * B)
-    k = np.maximum(k_star, k_min)
-    lam2 = (k**3 * (M - B * k) - T * k**2) / rod.mass_per_length
+    with np.errstate(over="ignore", invalid="ignore"):  # a rod stiff past 1e150: inf, no growth
+        k_star = (3 * M + np.sqrt(np.maximum(9 * M**2 - 32 * B * T, 0.0))) / (8 * B)
+        k = np.maximum(k_star, k_min)
+        lam2 = (k**3 * (M - B * k) - T * k**2) / rod.mass_per_length
     return np.sqrt(np.maximum(lam2, 0.0)), k
 
 

@@ -3,7 +3,7 @@ the engine's :class:`~dyntorsion.genalpha.Run`, with the shape of section 4 on d
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -14,7 +14,8 @@ from ..model.rod import Rod
 
 if TYPE_CHECKING:
     from ..model.ends import Ends
-    from .loading import AxialLoad, History
+    from .loading import History
+    from .loads import EndLoad
 
 __all__ = ["BucklingRun"]
 
@@ -32,9 +33,10 @@ class BucklingRun:
     theta_left: np.ndarray
     run: Run
     rod: Rod
-    params: dict[str, Any] = field(default_factory=dict)
+    #: the :class:`~dyntorsion.buckling.spec.Scene` that was run (None for a trace made by hand)
+    scene: Any = None
     history: History | None = None
-    load: AxialLoad | None = None
+    load: EndLoad | None = None
     ends: Ends | None = None
 
     def end_twist(self, t: float | np.ndarray) -> float | np.ndarray:

@@ -1,22 +1,75 @@
 """The seed of buckling (section 6): "a small perturbative force, of magnitude 1e-8 N, is
 added in the d1 direction".  Where it acts the paper does not say: :class:`Perturbation`
-makes that a parameter."""
+makes that a parameter.  Its ``form`` names a :class:`SeedForm`: ``"uniform"`` and ``"point"``
+are built in, and a subclass with a class attribute ``kind`` registers itself in
+:data:`SEED_FORMS` when defined."""
 
 from __future__ import annotations
 
 from dataclasses import asdict, dataclass
+from typing import Any, ClassVar
 
 import numpy as np
 
 from ..genalpha.guard import real
 
-__all__ = ["STATED", "FRAMES", "Perturbation"]
+__all__ = ["STATED", "FRAMES", "Perturbation", "SeedForm", "SEED_FORMS", "Uniform", "Point"]
 
 #: the seed's magnitude as section 6 states it: 1e-8 (N; read as N/m along the rod by
 #: default, as N at a point with ``form="point"``)
 STATED = 1e-8
 #: the frames a seed's direction can be fixed in (:class:`Perturbation` ``frame``)
 FRAMES = ("body", "lab")
+#: the seed forms by kind (every :class:`SeedForm` subclass with a ``kind``)
+SEED_FORMS: dict[str, type[SeedForm]] = {}
+
+
+class SeedForm:
+    """Where along the rod a seed acts: :meth:`force` gives the body force per length
+    (N+1, 3) [N/m] of a :class:`Perturbation` at the nodes.  A subclass with a class
+    attribute ``kind`` registers itself in :data:`SEED_FORMS` when defined (then
+    ``Perturbation(form=kind)`` takes it); the seed's ``location`` [m] is its position,
+    which a form may ignore."""
+
+    kind: ClassVar[str] = ""
+
+    def __init_subclass__(cls, **kwargs: Any) -> None:
+        super().__init_subclass__(**kwargs)
+        if cls.__dict__.get("kind"):
+            SEED_FORMS[cls.kind] = cls
+
+    def force(self, seed: Perturbation, s: np.ndarray, length: float) -> np.ndarray:
+        raise NotImplementedError
+
+
+class Uniform(SeedForm):
+    """``magnitude`` N/m along the whole rod."""
+
+    kind = "uniform"
+
+    def force(self, seed, s, length):
+        f = np.zeros((s.size, 3))
+        f[:] = seed.magnitude * np.asarray(seed.direction)
+        return f
+
+
+class Point(SeedForm):
+    """``magnitude`` N at the node nearest to ``location``, as magnitude / ds N/m on that
+    node's row (half a cell at an end)."""
+
+    kind = "point"
+
+    def force(self, seed, s, length):
+        if not 0 <= seed.location <= length:
+            raise ValueError(
+                f"perturbation location={seed.location!r} must lie in [0, L] = [0, {length}]"
+            )
+        f = np.zeros((s.size, 3))
+        j = int(np.argmin(np.abs(s - seed.location)))
+        ds = s[1] - s[0]
+        weight = ds if 0 < j < s.size - 1 else 0.5 * ds
+        f[j] = seed.magnitude / weight * np.asarray(seed.direction)
+        return f
 
 
 @dataclass(frozen=True)
@@ -47,8 +100,10 @@ class Perturbation:
     def __post_init__(self) -> None:
         if not (real("perturbation magnitude", self.magnitude) >= 0):
             raise ValueError(f"perturbation magnitude={self.magnitude!r} must be finite and >= 0")
-        if self.form not in ("uniform", "point"):
-            raise ValueError(f"perturbation form={self.form!r}; allowed: 'uniform', 'point'")
+        if self.form not in SEED_FORMS:
+            raise ValueError(
+                f"perturbation form={self.form!r}; registered: {', '.join(sorted(SEED_FORMS))}"
+            )
         d = np.asarray(self.direction, dtype=float)
         if d.shape != (3,) or not np.isclose(np.linalg.norm(d), 1.0):
             raise ValueError(f"perturbation direction={self.direction!r} must be a unit 3-vector")
@@ -95,16 +150,4 @@ class Perturbation:
 
     def force(self, s: np.ndarray, length: float) -> np.ndarray:
         """Body force per length (N+1, 3) at the nodes s."""
-        f = np.zeros((s.size, 3))
-        if self.form == "uniform":
-            f[:] = self.magnitude * np.asarray(self.direction)
-        else:
-            if not 0 <= self.location <= length:
-                raise ValueError(
-                    f"perturbation location={self.location!r} must lie in [0, L] = [0, {length}]"
-                )
-            j = int(np.argmin(np.abs(s - self.location)))
-            ds = s[1] - s[0]
-            weight = ds if 0 < j < s.size - 1 else 0.5 * ds
-            f[j] = self.magnitude / weight * np.asarray(self.direction)
-        return f
+        return SEED_FORMS[self.form]().force(self, s, length)

@@ -8,27 +8,24 @@ The onset of buckling lives in :mod:`dyntorsion.buckling.onset`, the delay law (
 from __future__ import annotations
 
 import warnings
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 
 import numpy as np
 
-from ..genalpha import ConvergenceError, Grid, Newton, Output, Scheme, Sources, Stops, integrate
-from ..genalpha.guard import check_time_grid, real
+from ..genalpha import ConvergenceError, Grid, Output, Sources, Stops, integrate
+from ..genalpha.guard import check_time_grid
 from ..model.cosserat import Cosserat
-from ..model.ends import Ends
-from ..model.ends import ends as _ends
 from ..model.rod import Rod
-from .loading import AxialLoad, History, Ramp
+from .history import History
+from .loads import DistributedLoad
 from .postbuckling import diagnose
 from .run import BucklingRun
-from .seed import STATED, Perturbation
+from .seed import Perturbation
+from .slender import check_slender
+from .spec import Scene
 from .stops import STRAIGHT, scene_stop
 
-__all__ = ["simulate", "GridWarning", "check_grid", "STARTS"]
-
-#: the initial states of :func:`simulate` (``start``): the rod pretwisted without stress
-#: in bending to kappa3(0, 0) (section 5's reading), or unstressed, y(s, 0) = 0 (section 6)
-STARTS = ("pretwisted", "unstressed")
+__all__ = ["simulate", "GridWarning", "check_grid"]
 
 
 class GridWarning(UserWarning):
@@ -53,18 +50,6 @@ def check_grid(rod: Rod, n_cells: int, dt: float) -> None:
             GridWarning,
             stacklevel=3,
         )
-
-
-def _history(a: float | None, kappa0: float, history: History | None) -> History:
-    if history is None:
-        if a is None:
-            raise ValueError("a=None: give the loading rate a (the paper's ramp) or a history")
-        return Ramp(a=real("a", a, " [1/(m s)]"), kappa0=real("kappa0", kappa0, " [1/m]"))
-    if not isinstance(history, History):
-        raise TypeError(f"history={history!r} must be a dyntorsion.buckling.loading.History")
-    if a is not None or kappa0 != 0.0:
-        raise ValueError("give either a (and kappa0) or a history, not both")
-    return history
 
 
 def _checked(hist: History, t_end: float) -> History:
@@ -110,8 +95,19 @@ def _seed_sources(model, seed: Perturbation, s: np.ndarray, length: float, hist)
     return Sources(field=turned)
 
 
-def _load(tension: float | AxialLoad) -> AxialLoad:
-    return tension if isinstance(tension, AxialLoad) else AxialLoad(T=tension)
+def _with_loads(seed: Sources, model, loads: Sequence[DistributedLoad], s) -> Sources:
+    """The seed's sources with the distributed ``loads`` added as a field q(s, t) (the
+    seed's sources unchanged without loads)."""
+    if not loads:
+        return seed
+    length = float(s[-1])
+
+    def field(s_, t):
+        f = sum(np.asarray(q.force(s, t, length), dtype=float) for q in loads)
+        out = model.external_force(f)
+        return out if seed.field is None else out + seed.field(s_, t)
+
+    return Sources(separable=seed.separable, field=field)
 
 
 #: the traces every buckling run keeps: the end displacement and the end twists and spins
@@ -125,99 +121,73 @@ RECORDED = {
 
 
 def simulate(
-    rod: Rod | None = None,
+    scene: Scene,
     *,
-    a: float | None = None,
-    kappa0: float = 0.0,
-    n_cells: int,
-    dt: float,
-    t_end: float,
-    history: History | None = None,
-    tension: float | AxialLoad = 0.0,
-    ends: str | Ends = "clamped",
-    perturbation: float | Perturbation = STATED,
-    scheme: Scheme = Scheme(),
-    newton: Newton = Newton(),
     snapshots: Sequence[float] = (),
-    stop_at_contact: bool = True,
-    stop_after_first_peak: bool = False,
-    check_every: int | None = None,
     progress: bool | None = None,
     on_failure: str = "raise",
-    terms: Mapping[str, float] | None = None,
-    rotary_inertia_scale: float = 1.0,
-    start: str = "pretwisted",
+    stop_at_contact: bool = True,
+    check_every: int | None = None,
 ) -> BucklingRun:
-    """Run the buckling scene of section 6, or any extension of it.
+    """Run one buckling :class:`~dyntorsion.buckling.scene.Scene` (section 6, or any
+    extension of it): its rod, end conditions, end twist or spin history, axial load,
+    distributed loads, model switches, seed, grid, scheme and Newton options, to its
+    ``duration()``.  The initial state is y = 0 except k3 = kappa3(0, 0) and n3 = T(0)
+    (``start="pretwisted"``: a straight rod pretwisted without stress in bending, in
+    equilibrium under the axial load; section 5 reads the paper's kappa0 so) or y = 0
+    except n3 (``"step"`` and ``"smooth"``: section 6's "y(s, 0) = 0"; with
+    kappa3(0, 0) != 0 the end twist of ``"step"`` then jumps at t = 0, the incompatible
+    data of section 5).  With no seed (magnitude 0) the straight rod is an exact solution
+    of the discrete equations and the run stays straight to round-off.
 
-    Table 1 rod (or ``rod``, any section), end conditions ``ends`` (default
-    ``"clamped"``: eq 30; see :data:`dyntorsion.model.ends.ENDS`), end twist
-    kappa3(0, t) = kappa0 + a t (the paper) or ``history`` (a
-    :class:`~dyntorsion.buckling.loading.History`), axial end load ``tension`` [N] (a number or
-    an :class:`~dyntorsion.buckling.loading.AxialLoad`; positive = tension), initial state y = 0
-    except k3 = kappa3(0, 0) and n3 = T(0) (``start="pretwisted"``: a straight rod pretwisted
-    without stress in bending, in equilibrium under the axial load; section 5 reads the
-    paper's kappa0 so) or y = 0 except n3 (``start="unstressed"``: section 6's "y(s, 0) = 0";
-    with kappa3(0, 0) != 0 the end twist then jumps at t = 0, the incompatible data of
-    section 5; :class:`~dyntorsion.buckling.loading.SmoothStart` brings kappa0 in smoothly
-    instead), and a seed force
-    ``perturbation`` (N/m along the rod in d1, or a :class:`Perturbation`).  With no
-    seed (magnitude 0) the straight rod is an exact solution of the discrete equations
-    and the run stays straight to round-off.
-
-    The run ends at ``t_end`` or, with ``stop_at_contact``, at the first check
-    (every ``check_every`` steps, default about every 0.1 s of simulated time, or every
-    step with step-size control: between checks 0.1 s apart the whipping rod can pass
-    through itself unseen; checked every step, a pair of segments that crossed between two
-    levels counts as contact too)
-    at which two non-neighbouring parts of the centreline come closer than the
-    rod's thickness; ``result.stopped`` says which ("t_end" or "self-contact ...").
-    With ``stop_after_first_peak`` it ends, too, at the first check at which
-    ``|u3(L, t)|``, having reached u_ref = L / T0, has fallen below
-    :data:`~dyntorsion.buckling.onset.PEAK_FALL` (0.7) of its running maximum: the trace then
-    holds the first peak and the fall after it, all that
-    :func:`~dyntorsion.buckling.onset.detect_onset` and the rules of
-    :mod:`~dyntorsion.buckling.onset_rules` read (they give the onset of the full run), and the
-    whip after it is not computed.
+    The run options: ``snapshots`` (times [s] at which the whole state is kept),
+    ``progress`` (a progress bar; None: only for long runs on a terminal), ``on_failure``
+    and the contact check.  The run ends at the scene's ``duration()`` or, with
+    ``stop_at_contact``, at the first check (every ``check_every`` steps, default about
+    every 0.1 s of simulated time, or every step with step-size control: between checks
+    0.1 s apart the whipping rod can pass through itself unseen; checked every step, a
+    pair of segments that crossed between two levels counts as contact too) at which two
+    non-neighbouring parts of the centreline come closer than the rod's thickness;
+    ``result.stopped`` says which ("t_end" or "self-contact ...").  A scene with
+    ``until="first-peak"`` ends, too, at the first check at which ``|u3(L, t)|``, having
+    reached u_ref = L / T0, has fallen below :data:`~dyntorsion.buckling.onset.PEAK_FALL`
+    (0.7) of its running maximum: the trace then holds the first peak and the fall after
+    it, all that :func:`~dyntorsion.buckling.onset.detect_onset` and the rules of
+    :mod:`~dyntorsion.buckling.onset_rules` read.
 
     Past the onset the rod whips round violently; a Newton failure there raises
     :class:`~dyntorsion.buckling.postbuckling.PostBucklingError`, one in the first steps
     :class:`~dyntorsion.buckling.postbuckling.GridTooCoarseError` (both are
     :class:`~dyntorsion.genalpha.ConvergenceError`; ``on_failure="raise"``), or, with
     ``on_failure="return"``, ends the run at the last completed step with
-    ``stopped = "failed: ..."`` (the traces up to it are what the onset needs).
+    ``stopped = "failed: ..."`` (the traces up to it are what the onset needs).  A time
+    step far outside the tested range for this rod warns (:class:`GridWarning`).
 
-    ``terms`` and ``rotary_inertia_scale`` are passed to
-    :class:`~dyntorsion.model.cosserat.Cosserat`: switch single mechanisms off (e.g.
-    ``{"gyro": 0.0}``) or scale the bending rotary inertia.  A time step far outside
-    the tested range for this rod warns (:class:`GridWarning`).
+    Raises TypeError for a ``scene`` that is no Scene, ValueError for bad run options.
     """
+    if not isinstance(scene, Scene):
+        raise TypeError(
+            f"scene={scene!r} must be a dyntorsion.buckling.scene.Scene (simulate(Scene(a=..., "
+            "n_cells=..., dt=..., t_end=...)))"
+        )
     if on_failure not in ("raise", "return"):
         raise ValueError(f"on_failure={on_failure!r}; allowed: 'raise', 'return'")
-    rod = Rod.paper() if rod is None else rod
-    if not isinstance(rod, Rod):
-        raise TypeError(f"rod={rod!r} must be a dyntorsion.Rod")
+    rod, n_cells, dt, t_end = scene.rod, scene.n_cells, scene.dt, scene.duration()
+    scheme, newton, load, end_set = scene.scheme, scene.newton, scene.tension, scene.ends
+    stop_after_first_peak = scene.until == "first-peak"
     check_time_grid(dt, t_end, 0.0, snapshots, check_every)
-    hist = _checked(_history(a, kappa0, history), t_end)
-    load = _load(tension)
-    end_set = _ends(ends)
-    if not isinstance(perturbation, Perturbation):
-        perturbation = Perturbation(magnitude=real("perturbation", perturbation, " [N/m]"))
-    model = Cosserat(rod, terms=dict(terms or {}), rotary_inertia_scale=rotary_inertia_scale)
+    hist = _checked(scene.twist, t_end)
+    model = Cosserat(rod, terms=dict(scene.terms), rotary_inertia_scale=scene.rotary_inertia_scale)
     system = model.system()
-    if not isinstance(n_cells, int | np.integer) or n_cells < 2:
-        raise ValueError(f"n_cells={n_cells!r} must be an integer >= 2")
-    n_cells = int(n_cells)
+    check_slender(rod)
     check_grid(rod, n_cells, dt)
     s = np.linspace(0.0, rod.L, n_cells + 1)
     y0 = np.zeros((n_cells + 1, 12))
-    if start not in STARTS:
-        raise ValueError(f"start={start!r}; allowed: {', '.join(map(repr, STARTS))}")
-    if start == "pretwisted":
+    if scene.pretwisted:
         y0[:, system.index("k3")] = hist.initial_twist
     y0[:, system.index("n3")] = load(np.zeros(1))[0]
     left, right = end_set.rows(system, hist, load)
-    sources = _seed_sources(model, perturbation, s, rod.L, hist)
+    sources = _with_loads(_seed_sources(model, scene.seed, s, rod.L, hist), model, scene.loads, s)
 
     if check_every is None:
         check_every = 1 if scheme.control is not None else max(1, int(round(0.1 / dt)))
@@ -258,24 +228,6 @@ def simulate(
     t = run.t
     w0 = run["w3_left"]
     theta = np.concatenate([[0.0], np.cumsum(0.5 * np.diff(t) * (w0[1:] + w0[:-1]))])
-    params = {
-        "rod": rod.as_dict(),
-        "a": hist.rate,
-        "kappa0": hist.kappa0,
-        "history": hist.params(),
-        "load": load.params(),
-        "ends": end_set.params(),
-        "n_cells": n_cells,
-        "dt": dt,
-        "t_end": t_end,
-        "perturbation": perturbation.params(),
-        "scheme": run.meta["scheme"],
-        "check_every": check_every,
-        "stop_after_first_peak": stop_after_first_peak,
-        "terms": dict(terms or {}),
-        "rotary_inertia_scale": rotary_inertia_scale,
-        **({} if start == "pretwisted" else {"start": start}),
-    }
     return BucklingRun(
         t=t,
         u3_end=run["u3_end"],
@@ -286,7 +238,7 @@ def simulate(
         theta_left=theta,
         run=run,
         rod=rod,
-        params=params,
+        scene=scene,
         history=hist,
         load=load,
         ends=end_set,

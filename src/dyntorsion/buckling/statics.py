@@ -21,17 +21,22 @@ others:
   -phi1 - kappa q1); the end conditions make an 8 x 8 matrix that is singular at the
   critical twist;
 * Chebyshev collocation of the isotropic equation B w'''' - i M w''' - T w'' = 0
-  (:func:`critical_twist_numerical`), an eigenproblem for M.
+  (:func:`~dyntorsion.buckling.chebyshev.critical_twist_numerical`), an eigenproblem for M.
 
-End conditions: ``"clamped"`` (eq 30 in statics: position and tangent held at both ends,
-the far end free to slide axially) and ``"pinned"`` (position held, free to tilt, the end
-moment axial: Greenhill's classical case, a static theory only; the dynamic scenes'
-pinned set applies a follower torque, which this theory does not cover).
+End conditions (:data:`STATIC_ENDS`): ``"clamped"`` (eq 30 in statics: position and
+tangent held at both ends, the far end free to slide axially) and ``"pinned"`` (position
+held, free to tilt, the end moment axial: Greenhill's classical case, a static theory
+only; the dynamic scenes' pinned set applies a follower torque, which this theory does
+not cover).  A dynamic end set names its static ends in ``Ends.static``; a user's set
+whose critical twist is known only numerically adds a :class:`StaticEnds` with its own
+``solver`` to :data:`STATIC_ENDS`.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
+from dataclasses import dataclass
 from functools import lru_cache
 
 import mpmath
@@ -45,17 +50,15 @@ __all__ = [
     "M_CRI_MP",
     "m_cri",
     "STATIC_ENDS",
+    "StaticEnds",
     "critical_moment",
     "critical_twist",
     "critical_twist_transfer",
-    "critical_twist_numerical",
+    "checked_tension",
     "greenhill_clamped",
     "greenhill_pinned",
     "euler_load",
 ]
-
-#: end conditions the static theory covers
-STATIC_ENDS = ("clamped", "pinned")
 
 
 def _m_cri(digits: int = 40) -> mpmath.mpf:
@@ -74,15 +77,14 @@ M_CRI_MP = _m_cri()
 m_cri = float(M_CRI_MP)
 
 
-def _check(rod: Rod, tension: float, ends: str) -> float:
+def checked_tension(rod: Rod, tension: float, ends: str) -> float:
+    """The axial load ``tension`` [N] as a float, after the checks every route shares:
+    ``rod`` a :class:`~dyntorsion.model.rod.Rod`, ``ends`` a name of :data:`STATIC_ENDS`,
+    ``tension`` finite and no compression at or beyond the Euler load of these ends
+    (TypeError or ValueError naming the parameter)."""
     if not isinstance(rod, Rod):
         raise TypeError(f"rod={rod!r} must be a Rod")
-    if ends not in STATIC_ENDS:
-        raise ValueError(
-            f"ends={ends!r}: the static theory covers {STATIC_ENDS} only (the dynamic end sets "
-            "'clamped-free-lateral', 'clamped-free', 'pinned-follower' have no static critical "
-            "twist here: give the scene an explicit t_end)"
-        )
+    _check_name(ends)
     if isinstance(tension, bool) or not isinstance(tension, int | float | np.floating | np.integer):
         raise TypeError(f"tension={tension!r} must be a real number [N]")
     T = float(tension)
@@ -99,8 +101,8 @@ def _check(rod: Rod, tension: float, ends: str) -> float:
 def euler_load(rod: Rod, ends: str = "clamped") -> float:
     """The compressive load [N] at which the untwisted rod buckles: 4 pi^2 B/L^2 (clamped),
     pi^2 B/L^2 (pinned), B = min(B1, B2)."""
-    factor = 4.0 if ends == "clamped" else 1.0
-    return factor * math.pi**2 * rod.B / rod.L**2
+    _check_name(ends)
+    return STATIC_ENDS[ends].euler_factor * math.pi**2 * rod.B / rod.L**2
 
 
 def greenhill_pinned(B: float, L: float, tension: float = 0.0) -> float:
@@ -109,6 +111,10 @@ def greenhill_pinned(B: float, L: float, tension: float = 0.0) -> float:
     with mpmath.workdps(40):
         B_, L_, T_ = mpmath.mpf(B), mpmath.mpf(L), mpmath.mpf(tension)
         return float(2 * B_ * mpmath.sqrt((mpmath.pi / L_) ** 2 + T_ / B_))
+
+
+#: the longest rod, in tension lengths L sqrt(T / B), whose critical moment is scanned for
+TENSION_LENGTHS = 1e4
 
 
 def greenhill_clamped(B: float, L: float, tension: float = 0.0, digits: int = 40) -> float:
@@ -124,6 +130,13 @@ def greenhill_clamped(B: float, L: float, tension: float = 0.0, digits: int = 40
     0.05 B/L."""
     if tension == 0.0:
         return 2 * math.pi * B * m_cri / L
+    if not L * math.sqrt(max(tension, 0.0) / B) <= TENSION_LENGTHS:
+        raise ValueError(
+            f"tension={tension:g} N makes the rod {L * math.sqrt(max(tension, 0.0) / B):.3g} "
+            f"tension lengths sqrt(B/T) long; allowed range: at most {TENSION_LENGTHS:g} "
+            f"(tension <= {TENSION_LENGTHS**2 * B / L**2:.3g} N), the reach of the scan of "
+            "Greenhill's determinant"
+        )
     with mpmath.workdps(digits):
         B_, L_, T_ = mpmath.mpf(B), mpmath.mpf(L), mpmath.mpf(tension)
 
@@ -179,10 +192,45 @@ def _system_matrix(b1: float, b2: float, m: float, kappa: float, t: float) -> np
     return A
 
 
+@dataclass(frozen=True)
+class StaticEnds:
+    """End conditions of the static theory: ``tangent_held`` (clamped) or the end moment
+    axial (pinned), the Euler load's factor (4 clamped, 1 pinned: P = factor pi^2 B/L^2),
+    the isotropic closed form of the critical moment (``greenhill``, (B, L, T) -> M) and,
+    for a set known only numerically, ``solver`` ((rod, T) -> kappa_cri [1/m]), which
+    :func:`critical_twist` then calls instead."""
+
+    tangent_held: bool
+    euler_factor: float
+    greenhill: Callable[[float, float, float], float] | None
+    solver: Callable[[Rod, float], float] | None = None
+    description: str = ""
+
+    @property
+    def route(self) -> str:
+        """How its critical twist is found: ``"closed form"`` or ``"numerical"``."""
+        return "numerical" if self.solver is not None else "closed form"
+
+
+#: the end conditions the static theory covers, by the name an ``Ends.static`` gives
+STATIC_ENDS: dict[str, StaticEnds] = {
+    "clamped": StaticEnds(True, 4.0, greenhill_clamped, description="eq (30): clamped"),
+    "pinned": StaticEnds(False, 1.0, greenhill_pinned, description="pinned, axial torque"),
+}
+
+
+def _check_name(ends: str) -> None:
+    if ends not in STATIC_ENDS:
+        raise ValueError(
+            f"ends={ends!r}: the static theory covers {', '.join(map(repr, STATIC_ENDS))} "
+            "only (a dynamic end set without a static critical twist needs an explicit t_end)"
+        )
+
+
 def _end_rows(ends: str, b1: float, b2: float, m: float, kappa: float) -> np.ndarray:
     rows = np.zeros((4, 8))
     rows[0, 6] = rows[1, 7] = 1.0  # q = 0: position held
-    if ends == "clamped":
+    if STATIC_ENDS[ends].tangent_held:
         rows[2, 0] = rows[3, 1] = 1.0  # phi1 = phi2 = 0: tangent held
     else:  # pinned, axial torque: B1 k1 + M phi2 = 0, B2 k2 - M phi1 = 0
         rows[2] = b1 * np.array([0, -kappa, 1, 0, 0, 0, 0, 0]) + m * np.eye(8)[1]
@@ -239,8 +287,8 @@ def critical_twist_transfer(rod: Rod, tension: float = 0.0, ends: str = "clamped
     simple root, a minimum without one may hold a close pair (a nearly isotropic section
     splits the isotropic double root), found as the dip of the determinant below zero
     between its neighbours; the lowest root is refined by Brent's method to 1e-15."""
-    T = _check(rod, tension, ends)
-    iso = greenhill_pinned if ends == "pinned" else greenhill_clamped
+    T = checked_tension(rod, tension, ends)
+    iso = STATIC_ENDS[ends].greenhill
     guess = iso(rod.B, rod.L, T) * rod.L / rod.C  # isotropic twist with the weaker B, times L
     top = guess * 3.0 * max(rod.B1, rod.B2) / rod.B
     ks, signs, small = [], [], []
@@ -317,7 +365,9 @@ def critical_twist(rod: Rod, tension: float = 0.0, ends: str = "clamped") -> flo
     matrix.  ``tension`` [N] is the axial load (positive = tension); ``ends`` is
     ``"clamped"`` (eq 30) or ``"pinned"`` (axial torque).  Other end sets, and
     compressions at or beyond the Euler load, raise :class:`ValueError`."""
-    T = _check(rod, tension, ends)
+    T = checked_tension(rod, tension, ends)
+    if STATIC_ENDS[ends].solver is not None:
+        return float(STATIC_ENDS[ends].solver(rod, T))
     if not rod.isotropic:
         return critical_twist_transfer(rod, T, ends)
     return critical_moment(rod, T, ends) / rod.C
@@ -326,64 +376,11 @@ def critical_twist(rod: Rod, tension: float = 0.0, ends: str = "clamped") -> flo
 def critical_moment(rod: Rod, tension: float = 0.0, ends: str = "clamped") -> float:
     """M_cri [N m] of an isotropic rod: 2 pi E I1 m_cri / L (eq 31) for clamped ends without
     load, Greenhill's closed forms otherwise (see :func:`critical_twist`)."""
-    T = _check(rod, tension, ends)
+    T = checked_tension(rod, tension, ends)
     if not rod.isotropic:
         return critical_twist(rod, T, ends) * rod.C
-    if ends == "pinned":
-        return greenhill_pinned(rod.B1, rod.L, T)
+    if not STATIC_ENDS[ends].tangent_held:
+        return STATIC_ENDS[ends].greenhill(rod.B1, rod.L, T)
     if T == 0.0 and rod.E is not None:
         return 2 * math.pi * rod.E * rod.I1 * m_cri / rod.L  # eq (31) as written
     return greenhill_clamped(rod.B1, rod.L, T)
-
-
-# ---------------------------------------------------------------- Chebyshev check
-def _cheb(n: int) -> tuple[np.ndarray, np.ndarray]:
-    """Chebyshev points on [-1, 1] (descending) and the differentiation matrix (Trefethen)."""
-    x = np.cos(np.pi * np.arange(n + 1) / n)
-    c = np.r_[2.0, np.ones(n - 1), 2.0] * (-1.0) ** np.arange(n + 1)
-    X = np.tile(x, (n + 1, 1)).T
-    dX = X - X.T
-    D = np.outer(c, 1.0 / c) / (dX + np.eye(n + 1))
-    D -= np.diag(D.sum(axis=1))
-    return x, D
-
-
-def critical_twist_numerical(
-    rod: Rod, n: int = 28, tension: float = 0.0, ends: str = "clamped"
-) -> float:
-    """Independent check of :func:`critical_twist` for isotropic rods: the smallest M at
-    which B w'''' - i M w''' - T w'' = 0 (w = x + i y the lateral displacement) has a
-    nontrivial solution, by Chebyshev collocation (a generalised eigenproblem in M).
-
-    Clamped: w = w' = 0 at both ends.  Pinned (axial torque): w = 0 and
-    i B w'' + M w' = 0 (the end moment along the fixed axis).  ``n`` + 1 points: the
-    truncation error is spectrally small by n = 20, while the round-off of the fourth
-    derivative matrix grows like n^8 eps, so the default n = 28 is near the best
-    (about 1e-11 clamped, 2e-10 pinned, relative to the closed forms)."""
-    T = _check(rod, tension, ends)
-    if not rod.isotropic:
-        raise ValueError(
-            "critical_twist_numerical covers isotropic sections (B1 = B2); for B1 != B2 "
-            "use critical_twist_transfer"
-        )
-    B = rod.B1
-    _, D = _cheb(n)
-    D = D * (-2.0 / rod.L)  # s = L (1 - x) / 2: node 0 is s = 0, node n is s = L
-    D2, D3, D4 = D @ D, D @ D @ D, D @ D @ D @ D
-    I = np.eye(n + 1)
-    A = (B * D4 - T * D2).astype(complex)
-    Bm = 1j * D3
-    rows = [0, n, 1, n - 1]  # replace two rows at each end by the boundary conditions
-    if ends == "clamped":
-        bc_a = [I[0], I[n], D[0], D[n]]
-        bc_b = [0 * I[0]] * 4
-    else:
-        bc_a = [I[0], I[n], 1j * B * D2[0], 1j * B * D2[n]]
-        bc_b = [0 * I[0], 0 * I[0], -D[0], -D[n]]
-    for r, a_row, b_row in zip(rows, bc_a, bc_b, strict=True):
-        A[r] = a_row
-        Bm[r] = b_row
-    vals = scipy.linalg.eigvals(A, Bm)
-    vals = vals[np.isfinite(vals)]
-    real = vals[(np.abs(vals.imag) < 1e-6 * np.abs(vals)) & (np.abs(vals.real) > 0)]
-    return float(np.min(np.abs(real.real))) / rod.C

@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 from scipy.special import gamma, gammainc
 
-from .history import History, _finite
+from .history import History, finite_value
 
 __all__ = ["TurnHold"]
 
@@ -49,11 +49,16 @@ class TurnHold(History):
 
     def __post_init__(self) -> None:
         for name in ("turns", "t_turn", "tau", "pretwist"):
-            object.__setattr__(self, name, _finite(name, getattr(self, name)))
+            object.__setattr__(self, name, finite_value(name, getattr(self, name)))
         if self.turns == 0.0:
             raise ValueError("turn-hold turns=0: give a non-zero number of turns")
         if not self.t_turn > 0:
             raise ValueError(f"turn-hold t_turn={self.t_turn!r} must be > 0 s")
+        if not math.isfinite(self.spin_rate):
+            raise ValueError(
+                f"turn-hold turns={self.turns!r} in t_turn={self.t_turn!r} s: the spin "
+                "2 pi turns / t_turn overflows; give fewer turns or a longer t_turn"
+            )
         if not 0 < self.tau <= self.t_turn / 4:
             raise ValueError(
                 f"turn-hold tau={self.tau!r} must be > 0 and <= t_turn / 4 = {self.t_turn / 4:g} s"
@@ -66,8 +71,9 @@ class TurnHold(History):
 
     def __call__(self, t):
         t = np.asarray(t, dtype=float)
-        x = np.maximum(t, 0.0) / self.tau
-        y = np.maximum(t - self.t_turn, 0.0) / self.tau
+        cap = 1e10 * self.tau  # exp(-x^4) is 0 to the last bit past x = 1e10; x**4 stays finite
+        x = np.clip(t, 0.0, cap) / self.tau
+        y = np.clip(t - self.t_turn, 0.0, cap) / self.tau
         on = t < self.t_turn
         omega = np.where(on, -np.expm1(-(x**4)), np.exp(-(y**4)))
         return -self.spin_rate * omega

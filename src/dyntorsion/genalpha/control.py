@@ -20,8 +20,9 @@ from typing import Any
 import numpy as np
 
 from .discrete import constants
-from .march import NO_GATE, Forcing, Gate, Recording, closes, march
+from .march import NO_GATE, Forcing, Gate, Halt, Recording, StepContext, closes, march
 from .newton import REASONS, ConvergenceError, Status
+from .parts import Grid
 from .scheme import StepControl
 from .watch import NO_WATCH, Watch, never
 
@@ -41,11 +42,22 @@ class Adaptive:
     residual); ``substeps[i]`` is the number of steps accepted on (t_i, t_{i+1}).
     """
 
-    def __init__(self, control: StepControl, system, scheme, ds, dt, left, right, levels, ctx):
+    def __init__(
+        self,
+        control: StepControl,
+        system,
+        scheme,
+        grid: Grid,
+        left,
+        right,
+        levels,
+        ctx: StepContext,
+    ):
         self.control, self.system, self.scheme = control, system, scheme
-        self.ds, self.dt, self.left, self.right = ds, dt, left, right
+        self.ds, self.dt, self.left, self.right = grid.ds, grid.dt, left, right
         self.levels, self.times, self.src = levels, levels.times, levels.src
-        (self.con, self.work, self.fac, self.opts) = ctx
+        self.ctx = ctx
+        self.con, self.work = ctx.con, ctx.work
         self.level = 0  # m of the last accepted substep (0: whole steps)
         self.deepest = 0  # the largest m accepted
         self.rejections: list[tuple[float, float, str, int, float]] = []
@@ -74,8 +86,8 @@ class Adaptive:
         rec = Recording(np.zeros(0, np.int64), np.zeros(0, np.int64), _NEVER, 0, np.zeros((0, 0)))
         one = np.zeros((1, 5))
         done, out = march(
-            self.system.F, self.system.dF, never, self._constants(m), self.work, self.fac,
-            self.opts, forcing, rec, NO_GATE, NO_WATCH, one,
+            self.system.F, self.system.dF, never, self.ctx._replace(con=self._constants(m)),
+            forcing, rec, Halt(NO_GATE, NO_WATCH), one,
         )  # fmt: skip
         stats[0:3] += one[0, 0:3]
         stats[3] = one[0, 3]
@@ -150,8 +162,8 @@ class Adaptive:
                 sub = Recording(rec.fields, rec.nodes, every, k, rec.out[row:])
                 forcing = self.levels.forcing(slice(k, j + 1))
                 done, out = march(
-                    self.system.F, self.system.dF, test, self.con, self.work, self.fac,
-                    self.opts, forcing, sub, gate, watch, stats[k - k0 : j - k0],
+                    self.system.F, self.system.dF, test, self.ctx, forcing, sub,
+                    Halt(gate, watch), stats[k - k0 : j - k0],
                 )  # fmt: skip
                 k += done
                 if k == j:

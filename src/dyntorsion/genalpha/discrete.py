@@ -27,7 +27,7 @@ from ..model.system import Boundary, System
 from . import abd as _abd
 from .scheme import Coefficients, Scheme
 
-__all__ = ["Constants", "Work", "constants", "setup"]
+__all__ = ["Constants", "Work", "Start", "constants", "setup"]
 
 
 class Pattern(NamedTuple):
@@ -102,6 +102,14 @@ CONSTANTS = named(Constants)
 WORK = named(Work)
 
 
+class Start(NamedTuple):
+    """The level a run starts from: the fields ``y`` and their time derivatives ``rate``,
+    each (N+1, nf)."""
+
+    y: np.ndarray
+    rate: np.ndarray
+
+
 def setup(
     system: System,
     scheme: Scheme,
@@ -110,10 +118,12 @@ def setup(
     dt: float,
     left: Boundary,
     right: Boundary,
-    y0: np.ndarray,
-    rate0: np.ndarray,
+    start: Start,
 ) -> tuple[Constants, Work, _abd.Factors]:
-    """Constants, work arrays and LU storage of the compiled kernels."""
+    """Constants, work arrays and LU storage of the compiled kernels for ``system`` under
+    ``scheme`` on ``n_cells`` cells of ``ds`` [m] in steps of ``dt`` [s], with the boundary
+    rows ``left`` and ``right``, the work arrays holding the level ``start``."""
+    y0, rate0 = start
     nf = system.nf
     ys = np.asarray(system.yscale, float)
     con = constants(system, scheme, ds, dt, left, right)

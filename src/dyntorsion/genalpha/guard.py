@@ -133,7 +133,8 @@ def check_memory(n_steps: int, n_nodes: int, nf: int, n_recorded: int, n_snapsho
         return
     raise BudgetError(
         f"the run needs about {need / 2**30:.3g} GiB ({n_steps} time steps x {n_nodes} nodes, "
-        f"{n_snapshots} snapshots) but {avail / 2**30:.3g} GiB is available: raise dt, "
+        f"{n_snapshots} snapshots), over the limit of {MEMORY_FRACTION:.0%} of the "
+        f"{avail / 2**30:.3g} GiB available: raise dt, "
         "shorten t_end, or keep fewer snapshots"
     )
 

@@ -10,9 +10,9 @@ import time
 import numpy as np
 
 from ..model.system import Boundary, System
-from .discrete import setup
+from .discrete import Start, setup
 from .guard import check_memory, check_time, check_time_grid
-from .march import full_newton_iterations
+from .march import StepContext, full_newton_iterations
 from .newton import Newton
 from .parts import Grid, Output, Sources, Stops
 from .plan import Levels, Plan, Source, gate_of, initial_rate
@@ -93,11 +93,11 @@ def integrate(
     times = t0 + dt * np.arange(n_steps + 1)
     src = Source.of(s, nf, sources.separable, sources.field)
     rate0 = initial_rate(system, y0, ds, y_t0, src, t0)
-    con, work, fac = setup(system, scheme, n_cells, ds, dt, left, right, y0, rate0)
-    plan = Plan.of(system, n1, n_steps, t0, dt, record, record_every, snapshots, stop, check_every)
+    con, work, fac = setup(system, scheme, n_cells, ds, dt, left, right, Start(y0, rate0))
+    plan = Plan.of(system, grid, n_steps, output, stops)
     levels = Levels.of(times, left, right, src)
-    ctx = (con, work, fac, newton.options())
-    stepper = Stepper(system, scheme, ds, dt, left, right, levels, ctx, t0)
+    ctx = StepContext(con, work, fac, newton.options())
+    stepper = Stepper(system, scheme, grid, left, right, levels, ctx)
     recorder = Recorder(plan, times, y0, record_every)
     stopper = Stopper(stop, gate_of(system, stops.gate, ds, stop), plan, n_steps, work.y_old)
     stopped, failure, done = "t_end", None, 0
@@ -204,7 +204,7 @@ def newton_iteration_kernel(
     right-hand side (for benchmarks against LAPACK)."""
     y = np.ascontiguousarray(y, float)
     con, work, fac = setup(
-        system, scheme, n_cells, length / n_cells, dt, left, right, y, np.zeros_like(y)
+        system, scheme, n_cells, length / n_cells, dt, left, right, Start(y, np.zeros_like(y))
     )
     gL, gR = left.at(np.array([dt]))[0], right.at(np.array([dt]))[0]
 

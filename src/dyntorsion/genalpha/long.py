@@ -13,8 +13,20 @@ from typing import Any
 import numpy as np
 
 from .discrete import constants
-from .march import AT_ERROR, AT_LIMIT, WHY, Recording, closed, gauge, make_gate, march
+from .march import (
+    AT_ERROR,
+    AT_LIMIT,
+    WHY,
+    Halt,
+    Recording,
+    StepContext,
+    closed,
+    gauge,
+    make_gate,
+    march,
+)
 from .newton import REASONS, Status
+from .parts import Grid
 from .scheme import LongSteps
 from .watch import NO_WATCH, never
 
@@ -32,15 +44,18 @@ class LongPhase:
     indices i of the intervals (t_i, t_{i+1}) on which a long step ended.
     """
 
-    def __init__(self, spec: LongSteps, system, scheme, ds, dt, left, right, work, t0):
-        self.spec, self.factor, self.work = spec, spec.factor, work
-        self.con = constants(system, scheme, ds, spec.factor * dt, left, right)
+    def __init__(self, spec: LongSteps, system, scheme, grid: Grid, left, right, ctx: StepContext):
+        work = ctx.work
+        self.spec, self.factor, self.work, self.system = spec, spec.factor, work, system
+        self.con = constants(system, scheme, grid.ds, spec.factor * grid.dt, left, right)
+        #: the run's step context with the constants of the long step H
+        self.ctx = ctx._replace(con=self.con)
         fields = [system.index(name) for name in spec.fields]
-        self.gate = make_gate(fields, ds, spec.limit, spec.tol)
+        self.gate = make_gate(fields, grid.ds, spec.limit, spec.tol)
         # the first estimate uses the levels after t_0: the load starts at t_0 with a
         # kink (the ramp's rate and the seed switch on), not a smooth response
         self.active = gauge(work.y_old, self.gate) < spec.limit
-        self.steps, self.until = 0, float(t0)
+        self.steps, self.until = 0, float(grid.t0)
         self.ended: str | None = None if self.active else "limit"
         self.marks: list[int] = []
 
@@ -57,7 +72,7 @@ class LongPhase:
             return None
         return k
 
-    def chunk(self, k0, k1, system, fac, opts, levels, plan, stats, rec_t, rec_vals):
+    def chunk(self, k0, k1, levels, plan, stats, rec_t, rec_vals):
         """March long steps from level k0 to k1 (a multiple of factor steps); append
         the recorded levels to rec_t, rec_vals and each step's statistics to the row
         of its last interval.  Returns the level reached."""
@@ -70,10 +85,10 @@ class LongPhase:
         st = np.zeros((n, 5))
         if self.steps == 0:
             work.factored[0] = 0  # the factors of dt do not fit H
+        system = self.system
         done, out = march(
-            system.F, system.dF, never, self.con, work, fac, opts, forcing, rec, self.gate,
-            NO_WATCH, st,
-        )  # fmt: skip
+            system.F, system.dF, never, self.ctx, forcing, rec, Halt(self.gate, NO_WATCH), st
+        )
         levels = idx[1 : done + 1]
         stats[levels - 1 - k0] = st[:done]
         keep = levels % plan.every == 0

@@ -22,14 +22,17 @@ from .._numba import (
     named,
 )
 from . import abd as _abd
-from .discrete import CONSTANTS, WORK, factor, prepare_step, residual, solve_neg
-from .newton import _CONVERGED, NEWTON_OPTIONS, OUTCOME, NewtonOptions, Outcome, solve_step
-from .watch import STOP_SIGNATURE, WATCH
+from .abd import Factors
+from .discrete import CONSTANTS, WORK, Constants, Work, factor, prepare_step, residual, solve_neg
+from .newton import CONVERGED, OUTCOME, NewtonOptions, Outcome, solve_step
+from .watch import STOP_SIGNATURE, Watch
 
 __all__ = [
     "Forcing",
     "Recording",
     "Gate",
+    "StepContext",
+    "Halt",
     "NO_GATE",
     "make_gate",
     "norm_sum",
@@ -87,9 +90,30 @@ def make_gate(fields, weight: float, limit: float, tol: float = np.inf) -> Gate:
     return Gate(np.asarray(fields, np.int64), float(weight), float(limit), float(tol), np.zeros(6))
 
 
+class StepContext(NamedTuple):
+    """What every step of a run uses: the constants of eqs (10)-(12) at its step size
+    (``con``), the state and work arrays carried from step to step (``work``), the LU
+    factors of the latest Jacobian (``fac``) and the Newton options (``opts``)."""
+
+    con: Constants
+    work: Work
+    fac: Factors
+    opts: NewtonOptions
+
+
+class Halt(NamedTuple):
+    """What may end a chunk of steps before its last level: the :class:`Gate` (consulted
+    at every level) and the compiled stop test's :class:`~.watch.Watch` (at its levels)."""
+
+    gate: Gate
+    watch: Watch
+
+
 FORCING = named(Forcing)
 RECORDING = named(Recording)
 GATE = named(Gate)
+STEP_CONTEXT = named(StepContext)
+HALT = named(Halt)
 #: the gate that never closes a chunk early
 NO_GATE = make_gate(np.zeros(0, np.int64), 0.0, np.inf)
 _F = numba.types.FunctionType(LOAD_SIGNATURE)
@@ -147,21 +171,25 @@ def closed(gate: Gate) -> bool:
 
 @jit(
     signature=numba.types.Tuple((numba.int64, OUTCOME))(
-        _F, _DF, _STOP, CONSTANTS, WORK, _abd.FACTORS, NEWTON_OPTIONS, FORCING, RECORDING,
-        GATE, WATCH, A2,
+        _F, _DF, _STOP, STEP_CONTEXT, FORCING, RECORDING, HALT, A2,
     )
 )  # fmt: skip
-def march(F, dF, test, con, w, fac, opts, forcing, rec, gate, watch, stats):
-    """Advance len(forcing.gL) - 1 steps from w.y_old, w.rate_old.
+def march(F, dF, test, ctx, forcing, rec, halt, stats):
+    """Advance len(forcing.gL) - 1 steps from ctx.work.y_old, ctx.work.rate_old.
 
-    ``stats[k]`` <- corrections, residual evaluations, factorisations, residual and
-    retries of step k.  Returns the number of steps completed and the last
-    :class:`Outcome`.  Fewer steps than asked: a failure, or, with a converged
-    outcome, the ``gate`` closed the chunk after its last completed step (it is
-    consulted at every level, the last one too: ``gate.state[WHY]`` says), or
-    ``test(y, watch)`` (a :class:`~.watch.Watch`, consulted at its levels
+    ``F``, ``dF``: the model's load vector and its Jacobian (compiled); ``ctx``: the
+    :class:`StepContext`; ``forcing``: the boundary values and sources at the chunk's
+    levels; ``rec``: what to record where.  ``stats[k]`` <- corrections, residual
+    evaluations, factorisations, residual and retries of step k.  Returns the number of
+    steps completed and the last :class:`Outcome`.  Fewer steps than asked: a failure,
+    or, with a converged outcome, ``halt.gate`` closed the chunk after its last completed
+    step (it is consulted at every level, the last one too: ``gate.state[WHY]`` says), or
+    ``test(y, halt.watch)`` (a :class:`~.watch.Watch`, consulted at its levels
     ``rec.offset + k + 1``) said stop.
     """
+    # the step's constants, state and work arrays, LU factors, Newton options
+    con, w, fac, opts = ctx.con, ctx.work, ctx.fac, ctx.opts
+    gate, watch = halt.gate, halt.watch
     co = con.co
     yo, ao, y = w.y_old, w.rate_old, w.y
     N1, nf = yo.shape
@@ -174,7 +202,7 @@ def march(F, dF, test, con, w, fac, opts, forcing, rec, gate, watch, stats):
     retry = NewtonOptions(
         opts.tol, opts.max_iter, opts.lam_min, opts.theta_reuse, False, rate, opts.contraction
     )
-    out = Outcome(_CONVERGED, 0, 0, 0, 0.0)
+    out = Outcome(CONVERGED, 0, 0, 0, 0.0)
     for k in range(nsteps):
         if use_qf:
             prepare_step(F, con, w, qs, qt[k], qt[k + 1], qf[k], qf[k + 1], True)
@@ -189,7 +217,7 @@ def march(F, dF, test, con, w, fac, opts, forcing, rec, gate, watch, stats):
         stats[k, 1] = out.residual_evaluations
         stats[k, 2] = out.factorisations
         stats[k, 3] = out.residual
-        if out.status != _CONVERGED:
+        if out.status != CONVERGED:
             # one retry: the other predictor, a fresh Jacobian at every iteration
             for j in range(N1):
                 for f in range(nf):
@@ -201,7 +229,7 @@ def march(F, dF, test, con, w, fac, opts, forcing, rec, gate, watch, stats):
             stats[k, 2] += out.factorisations
             stats[k, 3] = out.residual
             stats[k, 4] = 1.0
-            if out.status != _CONVERGED:
+            if out.status != CONVERGED:
                 return k, out
         # eq (11): the new rate from the new level
         for j in range(N1):

@@ -22,6 +22,7 @@ __all__ = [
     "NewtonOptions",
     "Status",
     "Outcome",
+    "CONVERGED",
     "ConvergenceError",
     "correction_norm",
     "axpy_scaled",
@@ -48,6 +49,8 @@ REASONS = {
 
 # plain ints for the compiled code
 _CONVERGED, _MAX_ITER, _DAMPING, _SINGULAR, _NOT_FINITE = (int(s) for s in Status)
+#: :attr:`Status.CONVERGED` as the plain int the compiled code of other modules compares
+CONVERGED = _CONVERGED
 
 
 class NewtonOptions(NamedTuple):

@@ -114,7 +114,14 @@ class Plan:
     compiled: bool
 
     @classmethod
-    def of(cls, system, n1, n_steps, t0, dt, record, record_every, snapshots, stop, check_every):
+    def of(cls, system, grid, n_steps: int, output, stops) -> Plan:
+        """The plan of a run of ``system`` on the :class:`~.parts.Grid` ``grid`` in
+        ``n_steps`` steps, keeping what the :class:`~.parts.Output` ``output`` asks and
+        consulting the :class:`~.parts.Stops` ``stops``; a ValueError names a record node,
+        snapshot or ``check_every`` out of range."""
+        n1, t0, dt = grid.n_cells + 1, grid.t0, grid.dt
+        record, record_every, snapshots = output.record, output.every, output.snapshots
+        stop, check_every = stops.test, stops.check_every
         rec = dict(record or {})
         fields = np.array([system.index(f) for f, _ in rec.values()], dtype=np.int64)
         nodes = np.array(

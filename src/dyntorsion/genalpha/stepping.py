@@ -12,27 +12,33 @@ import numpy as np
 
 from .control import Adaptive
 from .long import LongPhase
-from .march import Recording, march
+from .march import Halt, Recording, StepContext, march
 from .newton import REASONS, ConvergenceError, Status
+from .parts import Grid
 from .plan import Levels, Plan
 
 __all__ = ["Stepper"]
 
 
 class Stepper:
-    """The steppers of one run, sharing its factors and work arrays."""
+    """The steppers of one run, sharing its factors and work arrays.
 
-    def __init__(self, system, scheme, ds, dt, left, right, levels: Levels, ctx, t0) -> None:
+    ``system``, ``scheme``: the model and the scheme of the run; ``grid``: its space-time
+    grid; ``left``, ``right``: its boundary rows; ``levels``: the boundary values and
+    sources at the levels of the fixed grid; ``ctx``: the :class:`~.march.StepContext`
+    every step shares.
+    """
+
+    def __init__(
+        self, system, scheme, grid: Grid, left, right, levels: Levels, ctx: StepContext
+    ) -> None:
         self.system, self.levels, self.ctx = system, levels, ctx
-        con, work, fac, opts = ctx
         self.adaptive = None
         if scheme.control is not None:
-            self.adaptive = Adaptive(
-                scheme.control, system, scheme, ds, dt, left, right, levels, ctx
-            )
+            self.adaptive = Adaptive(scheme.control, system, scheme, grid, left, right, levels, ctx)
         self.long = None
         if scheme.long_steps is not None:
-            self.long = LongPhase(scheme.long_steps, system, scheme, ds, dt, left, right, work, t0)
+            self.long = LongPhase(scheme.long_steps, system, scheme, grid, left, right, ctx)
 
     def end(self, k0: int, k1: int, plan: Plan) -> tuple[int, bool]:
         """Where the chunk from level k0 ends (at most k1), and whether in long steps."""
@@ -44,8 +50,7 @@ class Stepper:
 
     def long_chunk(self, k0, k1, plan, stats, rec_t, rec_vals) -> int:
         """Long steps from k0 to at most k1; the levels completed (recorded as reached)."""
-        _, _, fac, opts = self.ctx
-        return self.long.chunk(k0, k1, self.system, fac, opts, self.levels, plan, stats, rec_t, rec_vals) - k0  # fmt: skip
+        return self.long.chunk(k0, k1, self.levels, plan, stats, rec_t, rec_vals) - k0
 
     def chunk(
         self, k0: int, k1: int, rec: Recording, stats: np.ndarray, gate, test, watch, times
@@ -53,10 +58,9 @@ class Stepper:
         """Steps from level k0 to k1 at the fixed step (or under step control)."""
         if self.adaptive is not None:
             return self.adaptive.chunk(k0, k1, rec, stats, gate, test, watch)
-        con, work, fac, opts = self.ctx
         completed, outcome = march(
-            self.system.F, self.system.dF, test, con, work, fac, opts,
-            self.levels.forcing(slice(k0, k1 + 1)), rec, gate, watch, stats,
+            self.system.F, self.system.dF, test, self.ctx,
+            self.levels.forcing(slice(k0, k1 + 1)), rec, Halt(gate, watch), stats,
         )  # fmt: skip
         failure = None
         if completed < k1 - k0 and outcome.status != Status.CONVERGED:

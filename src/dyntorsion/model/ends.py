@@ -4,6 +4,14 @@ which six fields each end of the rod prescribes.
 :class:`Ends` holds the prescribed fields of each end; :data:`ENDS` names the sets
 (``"clamped"`` is the paper's eq 30, :data:`EQ30`).  A set the rod equations cannot
 satisfy is refused on construction (:class:`IllPosedEndsError`), before any step.
+
+An end set declares what it supports: ``static`` names the end conditions of the
+static theory that give its critical twist (None: no static critical twist), ``linear``
+whether the linear predictions apply, ``contact`` whether runs past self-contact do,
+and its ``relations`` turn prescribed fields into linear relations between fields (a
+:class:`Relation`, e.g. a torsional dashpot at s = L).  Code elsewhere asks these
+(:meth:`Ends.require`), never the set's name; :func:`register` adds a set to
+:data:`ENDS` so the command line and the store find it by name.
 """
 
 from __future__ import annotations
@@ -17,11 +25,67 @@ import numpy as np
 from .cosserat import FIELDS
 from .system import Boundary
 
-__all__ = ["Ends", "ENDS", "EQ30", "ends", "IllPosedEndsError", "ends_from_params"]
+__all__ = [
+    "Ends",
+    "ENDS",
+    "EQ30",
+    "ends",
+    "IllPosedEndsError",
+    "UnsupportedEndsError",
+    "ends_from_params",
+    "Relation",
+    "register",
+    "CAPABILITIES",
+]
 
 
 class IllPosedEndsError(ValueError):
     """A set of end conditions the rod equations cannot satisfy (refused before a run)."""
+
+
+class UnsupportedEndsError(ValueError):
+    """An end set asked for something it does not declare (:meth:`Ends.require`)."""
+
+
+#: what an end set can declare, by attribute, with its name in messages
+CAPABILITIES = {
+    "static": "a static critical twist",
+    "linear": "the linear predictions",
+    "contact": "runs past self-contact",
+}
+
+
+@dataclass(frozen=True)
+class Relation:
+    """A linear relation at one end (``side`` "left" or "right") that replaces the
+    prescription of ``field`` (one of the end's six): field + sum_j c_j y_j = ``value``
+    with ``terms`` = ((name_j, c_j), ...) in the fields' units (body frame).  A torsional
+    dashpot of constant c [N m s] at s = L, m3 = C k3 = -c w3, is
+    ``Relation("right", "k3", (("w3", c / C),))``.  (A spring acts on the end's angle,
+    which is not a field of the rod's first-order system: it is no such relation.)"""
+
+    side: str
+    field: str
+    terms: tuple[tuple[str, float], ...]
+    value: float = 0.0
+
+    def __post_init__(self) -> None:
+        if self.side not in ("left", "right"):
+            raise IllPosedEndsError(f"relation side={self.side!r}; allowed: 'left', 'right'")
+        names = [self.field, *(str(k) for k, _ in self.terms)]
+        unknown = sorted(set(names) - set(FIELDS))
+        if unknown:
+            raise IllPosedEndsError(f"relation: unknown field(s) {unknown}; fields: {FIELDS}")
+        terms = tuple((str(k), float(c)) for k, c in self.terms)
+        if not terms or not all(np.isfinite(c) for _, c in terms):
+            raise IllPosedEndsError(f"relation on {self.field}: terms={self.terms!r} must be "
+                                    "finite coefficients of other fields")  # fmt: skip
+        object.__setattr__(self, "terms", terms)
+        object.__setattr__(self, "value", float(self.value))
+
+    def params(self) -> dict[str, Any]:
+        return {"side": self.side, "field": self.field, "terms": [list(t) for t in self.terms],
+                "value": self.value}  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -37,8 +101,21 @@ class Ends:
     left: tuple[str, ...]
     right: tuple[str, ...]
     description: str = ""
+    static: str | None = None
+    linear: bool = False
+    contact: bool = False
+    relations: tuple[Relation, ...] = ()
 
     def __post_init__(self) -> None:
+        object.__setattr__(self, "relations", tuple(self.relations))
+        for r in self.relations:
+            if not isinstance(r, Relation):
+                raise TypeError(f"relations: {r!r} must be a dyntorsion.model.ends.Relation")
+            if r.field not in getattr(self, r.side):
+                raise IllPosedEndsError(
+                    f"relation on {r.field} at the {r.side} end: the end does not prescribe "
+                    f"{r.field} (it prescribes {getattr(self, r.side)})"
+                )
         for side in ("left", "right"):
             names = tuple(getattr(self, side))
             object.__setattr__(self, side, names)
@@ -100,8 +177,40 @@ class Ends:
                 + (" (ends='clamped-turned' take a spin history)" if wanted == "twist" else "")
             )
 
+    def require(self, capability: str, why: str = "") -> None:
+        """Refuse (:class:`UnsupportedEndsError`, naming the capability and the set) what
+        this set does not declare; ``capability`` is a key of :data:`CAPABILITIES`."""
+        if capability not in CAPABILITIES:
+            raise ValueError(f"capability={capability!r}; allowed: {', '.join(CAPABILITIES)}")
+        if not getattr(self, capability):
+            raise UnsupportedEndsError(
+                f"ends {self.name!r} do not support {CAPABILITIES[capability]} "
+                f"(capability {capability!r} not declared by the set)" + (f": {why}" if why else "")
+            )
+
     def rows(self, system, history: Callable[[Any], Any], load: Callable[[Any], Any]):
-        """The engine's boundary rows: (left, right) :class:`~dyntorsion.genalpha.Boundary`."""
+        """The engine's boundary rows: (left, right) :class:`~dyntorsion.genalpha.Boundary`,
+        each :class:`Relation` written into the row of its field."""
+        left, right = self._field_rows(system, history, load)
+        return self._related(system, "left", left), self._related(system, "right", right)
+
+    def _related(self, system, side: str, rows):
+        mine = [r for r in self.relations if r.side == side]
+        if not mine:
+            return rows
+        a = rows.rows.copy()
+        shift = np.zeros(a.shape[0])
+        for r in mine:
+            i = getattr(self, side).index(r.field)
+            for name, c in r.terms:
+                a[i, system.index(name)] += c
+            shift[i] = r.value
+        values = rows.values
+        if callable(values):
+            return Boundary(a, lambda t: np.asarray(values(t), dtype=float) + shift)
+        return Boundary(a, np.asarray(values, dtype=float) + shift)
+
+    def _field_rows(self, system, history, load):
         self.check_history(history)
         e_h = np.zeros(6)
         e_h[self.left.index(self.driven)] = 1.0
@@ -119,7 +228,12 @@ class Ends:
         return left, right
 
     def params(self) -> dict[str, Any]:
-        return {"name": self.name, "left": list(self.left), "right": list(self.right)}
+        """The set's key: its name and rows (and relations, when it has any); what it
+        declares it supports is not keyed (it changes no number)."""
+        out = {"name": self.name, "left": list(self.left), "right": list(self.right)}
+        if self.relations:
+            out["relations"] = [r.params() for r in self.relations]
+        return out
 
 
 #: the named end-condition sets (body-frame fields prescribed at s = 0 and s = L)
@@ -132,6 +246,9 @@ ENDS: dict[str, Ends] = {
             ("w1", "w2", "w3", "u1", "u2", "n3"),
             "eq (30): s = 0 clamped and twisted; s = L held in rotation and laterally, free to "
             "slide axially under n3 = T",
+            static="clamped",
+            linear=True,
+            contact=True,
         ),
         Ends(
             "clamped-free-lateral",
@@ -152,6 +269,7 @@ ENDS: dict[str, Ends] = {
             "rotation control: s = 0 clamped and turned about its axis at the prescribed spin "
             "w3(0, t) (a spin history, e.g. TurnHold); s = L as eq (30), held in rotation and "
             "laterally, free to slide axially under n3 = T",
+            contact=True,
         ),
         Ends(
             "pinned-follower",
@@ -168,6 +286,15 @@ ENDS: dict[str, Ends] = {
 EQ30: Ends = ENDS["clamped"]
 
 
+def register(end_set: Ends) -> Ends:
+    """Add ``end_set`` to :data:`ENDS` under its name (a set of the same name is
+    replaced) and return it: the command line (``--ends NAME``) and the store find it."""
+    if not isinstance(end_set, Ends):
+        raise TypeError(f"end_set={end_set!r} must be a dyntorsion.model.ends.Ends")
+    ENDS[end_set.name] = end_set
+    return end_set
+
+
 def ends(value: str | Ends) -> Ends:
     """An :class:`Ends` by name (see :data:`ENDS`), or the object itself."""
     if isinstance(value, Ends):
@@ -178,7 +305,12 @@ def ends(value: str | Ends) -> Ends:
 
 
 def ends_from_params(p: Mapping[str, Any]) -> Ends:
-    """The end set of a cache key (the named set when its rows match)."""
-    e = Ends(p["name"], tuple(p["left"]), tuple(p["right"]))
+    """The end set of a cache key: the registered set of that name when its key matches
+    (it carries what the set supports), else a set of these rows supporting nothing."""
+    relations = tuple(
+        Relation(r["side"], r["field"], tuple(map(tuple, r["terms"])), r["value"])
+        for r in p.get("relations", ())
+    )
+    e = Ends(p["name"], tuple(p["left"]), tuple(p["right"]), relations=relations)
     named = ENDS.get(e.name)
-    return named if named is not None and (named.left, named.right) == (e.left, e.right) else e
+    return named if named is not None and named.params() == e.params() else e

@@ -25,7 +25,14 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
-__all__ = ["Lease", "acquire_lease", "clean_leftovers", "TMP_SUFFIX", "LEASE_SUFFIX"]
+__all__ = [
+    "Lease",
+    "acquire_lease",
+    "clean_leftovers",
+    "this_process",
+    "TMP_SUFFIX",
+    "LEASE_SUFFIX",
+]
 
 TMP_SUFFIX = ".tmp"
 LEASE_SUFFIX = ".lease"
@@ -52,8 +59,8 @@ def _say(message: str) -> None:
     print(f"dyntorsion: {message}", file=sys.stderr)
 
 
-def _owner() -> str:
-    """host-pid of this process, as written into leases and temporary file names."""
+def this_process() -> str:
+    """This process as ``host-pid``, as written into leases and temporary file names."""
     return f"{platform.node().replace('.', '_') or 'host'}-{os.getpid()}"
 
 
@@ -61,7 +68,7 @@ def _alive(owner: str, mtime: float) -> bool:
     """Whether the process ``host-pid`` may still be running (another host's: until
     :data:`ABANDONED_AFTER_S` after ``mtime``)."""
     host, _, pid = owner.rpartition("-")
-    if host != _owner().rpartition("-")[0]:
+    if host != this_process().rpartition("-")[0]:
         return time.time() - mtime < ABANDONED_AFTER_S
     try:
         os.kill(int(pid), 0)
@@ -73,7 +80,7 @@ def _alive(owner: str, mtime: float) -> bool:
 
 
 def _holder() -> dict:
-    return {"owner": _owner(), "start": _started(os.getpid()), "taken": time.time()}
+    return {"owner": this_process(), "start": _started(os.getpid()), "taken": time.time()}
 
 
 def stale(path: Path) -> str | None:
@@ -94,7 +101,7 @@ def stale(path: Path) -> str | None:
     if age > STALE_AFTER_S:
         return f"its heartbeat stopped {age:.0f} s ago (holder {owner})"
     host, _, pid = owner.rpartition("-")
-    if host != _owner().rpartition("-")[0]:
+    if host != this_process().rpartition("-")[0]:
         return None  # another machine's: judged by the heartbeat alone
     if not _alive(owner, mtime):
         return f"its holder {owner} is no longer running"
@@ -156,7 +163,7 @@ class Lease:
 
     def mine(self) -> bool:
         try:
-            return json.loads(self.path.read_text()).get("owner") == _owner()
+            return json.loads(self.path.read_text()).get("owner") == this_process()
         except (OSError, ValueError, AttributeError):
             return False
 

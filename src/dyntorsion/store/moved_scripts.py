@@ -16,11 +16,6 @@ from __future__ import annotations
 __all__ = ["MOVED_SCRIPTS"]
 
 MOVED_SCRIPTS: dict[str, tuple[str, str, str]] = {
-    "records.py": (
-        "dyntorsion.studies.contact.records",
-        "7e9cbd1dadb95157e958e8e0eb7897cadd7b58660a971aa8a299eef6cade4f5a",
-        "82b1a31fc87f92f7b96aaa97c0cad05ba138757ff1eac27a9f390cfa15949ce2",
-    ),
     "contact_budget.py": (
         "dyntorsion.studies.contact.contact_budget",
         "f0629d52e332707120ec0faaf2b4e6fb47ed2605e2c1371fc959be4ebc5ca3fb",
@@ -64,7 +59,7 @@ MOVED_SCRIPTS: dict[str, tuple[str, str, str]] = {
     "plectoneme_tension.py": (
         "dyntorsion.studies.contact.plectoneme_tension",
         "be52779b39c66b450e1ac25414f1e092b3171d6f260d8490bbeb814961c89786",
-        "3c4f70873357110b618e8365c9901da302122d4abe68b4903056ab67c34fe841",
+        "a58687834db7d1418a5cd77ce483efd1a7384a5b6bfd00607d2178ec689d7d94",
     ),
     "pyelastica_plectoneme.py": (
         "benchmarks/pyelastica_plectoneme.py",

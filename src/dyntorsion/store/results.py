@@ -43,7 +43,7 @@ from typing import Any
 import numpy as np
 
 from .fingerprint import code_of
-from .leases import TMP_SUFFIX, Lease, _owner, acquire_lease, clean_leftovers
+from .leases import TMP_SUFFIX, Lease, acquire_lease, clean_leftovers, this_process
 from .location import DATA
 
 SCHEMA = 1
@@ -163,7 +163,7 @@ def write_json(path: str | os.PathLike[str], obj: Any) -> Path:
     target = Path(path)
     target.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(
-        dir=target.parent, prefix=f".{target.stem}.{_owner()}.", suffix=TMP_SUFFIX
+        dir=target.parent, prefix=f".{target.stem}.{this_process()}.", suffix=TMP_SUFFIX
     )
     try:
         with os.fdopen(fd, "w") as fh:
@@ -325,7 +325,7 @@ class Store:
             return record
         if on_stale == "error":
             how = (
-                "`make data` in the checkout"
+                "`make data-studies` in the checkout"
                 if DATA is not None and self.root.resolve() == DATA.resolve()
                 else f"the command that wrote it, with --on-stale recompute (store {self.root})"
             )

@@ -168,7 +168,7 @@ def cached_map(
         raise MissingResultError(
             f"{len(todo)} {kind} record(s) are not in {store.root}:\n  {missing}\n"
             f"compute them with `{command}`"
-            + (" (or `make data` in the checkout)" if checkout() is not None else "")
+            + (" (or `make data-studies` in the checkout)" if checkout() is not None else "")
         )
     if todo:
         for path in store.clean():

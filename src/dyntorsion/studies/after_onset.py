@@ -17,7 +17,7 @@ from ..buckling.scene import Scene, simulate_scene
 from ..genalpha import Scheme, StepControl
 from ..store.results import Store, json_ready
 from . import fidelity
-from .page_records import read_or_compute
+from .page_records import main_by_level, read_or_compute_at
 from .presets import FIG10_RATES, SEEDS
 
 __all__ = ["KIND", "RATES", "params", "study", "load"]
@@ -81,9 +81,9 @@ def _contact(grids: list[list]) -> list[dict[str, Any]]:
 def _energy(n_cells: int, dt: float, t_end: float) -> list[dict[str, Any]]:
     rows = []
     for quadrature in ("trapezoidal", "midpoint"):
+        scheme = Scheme(quadrature=quadrature, control=StepControl())
         run = simulate(
-            a=RATES[0], kappa0=10.0, n_cells=n_cells, dt=dt, t_end=t_end,
-            scheme=Scheme(quadrature=quadrature, control=StepControl()),
+            Scene(a=RATES[0], kappa0=10.0, n_cells=n_cells, dt=dt, t_end=t_end, scheme=scheme),
             snapshots=np.arange(0.0, t_end + dt / 2, dt), on_failure="return",
         )  # fmt: skip
         eb = energy_balance(run)
@@ -119,22 +119,13 @@ def load(
     """The record at fidelity ``level`` (default :func:`~.fidelity.level`) from ``store``
     (default data/scenes): computed when missing or stale with ``compute=True`` (a stale
     one refused with ``on_stale="error"``), refused otherwise (:class:`LookupError`)."""
-    level = fidelity.check_level(level or fidelity.level())
-    p = params(level)
-    return read_or_compute(
-        KIND, p, lambda: study(p), store, compute=compute, on_stale=on_stale, what=f" at {level}"
+    return read_or_compute_at(KIND, level, params, study, store, compute=compute, on_stale=on_stale)
+
+
+if __name__ == "__main__":  # make data-studies
+    main_by_level(
+        KIND,
+        "compute the runs of 'After the onset'",
+        load,
+        lambda tables: ", ".join(f"{k} {len(v)} rows" for k, v in tables.items()),
     )
-
-
-if __name__ == "__main__":  # make data
-    import argparse
-
-    from ..store.results import ON_STALE
-
-    parser = argparse.ArgumentParser(description="compute the runs of 'After the onset'")
-    parser.add_argument("--on-stale", choices=ON_STALE, default="recompute")
-    parser.add_argument("--level", choices=fidelity.LEVELS, action="append")
-    args = parser.parse_args()
-    for lvl in args.level or ["quick", "standard"]:
-        tables = load(lvl, compute=True, on_stale=args.on_stale)
-        print(f"{KIND} [{lvl}]: " + ", ".join(f"{k} {len(v)} rows" for k, v in tables.items()))

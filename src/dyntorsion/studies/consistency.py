@@ -5,7 +5,7 @@ dynamic claims.  The claims and the fits are in :mod:`dyntorsion.studies.claims`
 Every scene is simulated once and read with every onset rule of
 :mod:`dyntorsion.buckling.onset_rules` (records of kind ``onset-rules``), so the rule costs
 nothing.  Three sets, each a named preset (``python -m dyntorsion.studies.consistency``, run by
-``make data``):
+``make data-studies``):
 
 * ``map``: the rate ladder :data:`LADDER` (0.01 to 50 rad/(m s), kappa0 = 10, as
   Fig 10) x the seeds :data:`MAP_SEEDS` (1e-20 to 1e-6, uniform [N/m] and point [N] at
@@ -164,7 +164,7 @@ def table(
     )
 
 
-if __name__ == "__main__":  # make data
+if __name__ == "__main__":  # make data-studies
     import argparse
 
     from ..store.results import ON_STALE

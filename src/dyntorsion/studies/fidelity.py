@@ -12,7 +12,7 @@ wherever a preset name is::
     from dyntorsion import buckling
     from dyntorsion.studies import fidelity
     f = fidelity.get("buckling", "quick")            # or Fidelity(n_cells=80, dt=0.004)
-    run = buckling.simulate(a=1.6, t_end=30.0, **f.simulate_kwargs())
+    run = buckling.simulate(Scene(a=1.6, t_end=30.0, **f.simulate_kwargs()))
 
 ``DYNTORSION_FIDELITY`` (environment) sets the level :func:`level` returns, so
 the notebooks can be built at ``quick`` fidelity.

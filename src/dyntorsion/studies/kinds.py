@@ -9,8 +9,10 @@ __all__ = ["KINDS"]
 
 #: the ends and loads a scene is keyed by are part of every scene's computation
 _SCENE = (
-    "dyntorsion.buckling.scene:Scene",
+    "dyntorsion.buckling.spec:Scene",
     "dyntorsion.buckling.loading",
+    "dyntorsion.buckling.loads",
+    "dyntorsion.buckling.seed",
     "dyntorsion.model.ends",
 )
 KINDS: dict[str, tuple[str, ...]] = {
@@ -26,6 +28,11 @@ KINDS: dict[str, tuple[str, ...]] = {
     "after-onset": (
         "dyntorsion.studies.after_onset:study",
         "dyntorsion.studies.after_onset:params",
+        *_SCENE,
+    ),
+    "accuracy-runs": (
+        "dyntorsion.studies.accuracy_runs:study",
+        "dyntorsion.studies.accuracy_runs:params",
         *_SCENE,
     ),
     "contact-run": (

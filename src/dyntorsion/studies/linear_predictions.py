@@ -105,7 +105,7 @@ def _imperfection() -> list[Prediction]:
     return [Prediction(sc, waves=False) for sc in scenes if sc.seed.magnitude > 0]
 
 
-#: name -> function returning the predictions; ``make data`` runs them all
+#: name -> function returning the predictions; ``make data-studies`` runs them all
 PRESETS: dict[str, Callable[[], list[Prediction]]] = {
     "linear-fig10": lambda: _from("fig10"),
     "linear-fig10-tiny-seed": lambda: _from("fig10-tiny-seed", waves=False),

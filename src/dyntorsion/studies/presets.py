@@ -1,6 +1,7 @@
 """The named sweeps (section 6): the Fig 10 rate sweeps, the direct runs of Figs 8 and 9
 the fitted law is checked against, the accuracy ladders and the studies beyond the paper.
-``make data`` computes them all; :func:`cached` reads one back, computing nothing."""
+``make data`` computes the paper's (:data:`PAPER`), ``make data-studies`` all of them;
+:func:`cached` reads one back, computing nothing."""
 
 from __future__ import annotations
 
@@ -15,6 +16,7 @@ from ..buckling.scene import Scene
 from ..buckling.seed import STATED, Perturbation
 from ..buckling.statics import critical_twist, euler_load
 from ..genalpha import Newton, StepControl
+from ..model.ends import EQ30
 from ..model.rod import Rod
 from ..store.results import Store
 from .sweep import run_sweep
@@ -114,7 +116,7 @@ TENSION_RATES: tuple[float, ...] = FIG10_RATES[::3]
 def tension_scenes(fraction: float, rates: Iterable[float] = TENSION_RATES) -> list[Scene]:
     """The rate sweep at axial load ``fraction`` x the clamped Euler load (Table 1 rod)."""
     rod = Rod()
-    T = fraction * euler_load(rod, "clamped")
+    T = fraction * euler_load(rod, EQ30.static)
     kappa0 = 10.0 if T == 0.0 else 10.0 * critical_twist(rod, T) / critical_twist(rod)
     return [Scene(a=a, kappa0=kappa0, tension=T, seed=SEEDS["stated"]) for a in rates]
 
@@ -125,8 +127,8 @@ def _newton(a: float, kappa0: float, seed: str = "stated") -> list[Scene]:
     ]
 
 
-#: the initial state and the seed's form as a further dimension of the delay law (issue
-#: 35; the "Initial state and seed" page): the Fig 10 sweep from the unstressed rod with
+#: the initial state and the seed's form as a further dimension of the delay law (the
+#: "Initial state and seed" page): the Fig 10 sweep from the unstressed rod with
 #: kappa0 brought in by section 5's transition in about 0.02 s (its torsional wave needs
 #: dt = 0.001 s, so this one runs at five of the rates, every third from 0.16, until the
 #: first peak) and in about 0.5 s, and with the stated seed fixed in the lab frame or
@@ -256,7 +258,7 @@ def solver_scenes(names: tuple[str, ...] = tuple(HOLDOUTS)) -> list[Scene]:
     return [solver_check(sc) for name in names for sc in holdout_scenes(name)]
 
 
-#: name -> function returning the scenes; ``make data`` runs them all
+#: name -> function returning the scenes; ``make data-studies`` runs them all
 PRESETS: dict[str, Callable[[], list[Scene]]] = {
     "fig10": lambda: _fig10("stated"),
     "fig10-tiny-seed": lambda: _fig10("tiny"),
@@ -286,11 +288,28 @@ PRESETS: dict[str, Callable[[], list[Scene]]] = {
 }
 
 
+#: the presets the paper's figures read (Figs 8, 9 and 10 and their grid check):
+#: ``make data`` computes these, and ``dyntorsion sweep --preset paper`` names them
+PAPER: tuple[str, ...] = (
+    "fig10",
+    "fig10-tiny-seed",
+    "fig08-09",
+    "fig08-09-tiny-seed",
+    "fig10-grid",
+    "fig10-grid-tiny-seed",
+    "fig08-seeds",
+    "accuracy-fig08",
+)
+
+#: a ``--preset`` value that stands for several presets: the paper's, or every one
+GROUPS: dict[str, tuple[str, ...]] = {"paper": PAPER, "all": tuple(PRESETS)}
+
+
 def cached(name: str, store: Store | str | Path | None = None) -> pd.DataFrame:
     """The table of a named preset read from ``store`` (default :func:`~dyntorsion.store.location.default_store`), computing
     nothing: a missing scene raises :class:`MissingResultError`, a stale one
     :class:`~dyntorsion.store.results.StaleResultError`, each naming the command that
-    computes it (``dyntorsion sweep --preset NAME``; in a checkout also ``make data``)."""
+    computes it (``dyntorsion sweep --preset NAME``; in a checkout also ``make data-studies``)."""
     return run_sweep(
         preset(name),
         store,

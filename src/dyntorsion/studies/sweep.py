@@ -18,6 +18,7 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any, Unpack
 
+import numpy as np
 import pandas as pd
 
 from ..buckling.scene import Scene, run_scene, simulate_scene
@@ -50,7 +51,7 @@ def _row(scene: Scene, record: dict[str, Any], cached: bool) -> dict[str, Any]:
         "kappa0": scene.twist.kappa0,
         "rho": scene.rod.rho,
         "rod": scene.rod.describe(),
-        "tension": scene.tension.T,
+        "tension": float(scene.tension(np.zeros(1))[0]),  # the axial load at t = 0
         "ends": scene.ends.name,
         "seed": scene.seed.magnitude,
         "seed_form": scene.seed.form,

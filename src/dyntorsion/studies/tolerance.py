@@ -146,14 +146,24 @@ def rung_name(n_cells: int) -> str:
 def pacing_time(scene: Scene) -> tuple[float | None, str]:
     """The onset time the rungs are paced by, and where it comes from: the linear
     estimate (``"linear estimate"``), else the paper's delay law at the scene's static
-    kappa_cri (``"delay law"``), else None (``"ladder"``: the fidelity ladder's steps)."""
+    kappa_cri (``"delay law"``), else None (``"ladder"``: the fidelity ladder's steps).
+    Kept per scene in this process (scenes are immutable; an unhashable one is not kept):
+    the presets and the studies ask for the same scenes' rungs many times."""
+    try:
+        hash(scene)
+    except TypeError:
+        return _pacing_time(scene)
+    return _kept_pacing_time(scene)
+
+
+def _pacing_time(scene: Scene) -> tuple[float | None, str]:
     try:
         t = estimate(scene).t_ref
         if math.isfinite(t) and t > 0:
             return t, "linear estimate"
     except ValueError:
         pass
-    if scene.history is None and scene.tension.T_rate == 0.0:
+    if scene.history is None and scene.tension.constant is not None:
         try:
             kc = scene.kappa_cri()
         except ValueError:
@@ -162,6 +172,9 @@ def pacing_time(scene: Scene) -> tuple[float | None, str]:
         if math.isfinite(t) and t > 0:
             return t, "delay law"
     return None, "ladder"
+
+
+_kept_pacing_time = lru_cache(maxsize=4096)(_pacing_time)
 
 
 def rungs(scene: Scene, count: int = len(CELLS)) -> list[Scene]:

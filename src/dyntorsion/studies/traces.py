@@ -4,12 +4,13 @@ The onset detector (:func:`~dyntorsion.buckling.onset.detect_onset`) and the lin
 prediction (:mod:`~dyntorsion.beyond.linear_stability`) meet at one number, the time
 ``|u3(L, t)|`` reaches u_ref.  A trace comparison shows the whole approach: how long the
 simulated rod follows the linear growth, and where it departs.  Records of kind
-``onset-trace`` (cached in ``data/``, ``make data``) hold both traces sampled on a
+``onset-trace`` (cached in ``data/``, ``make data-studies``) hold both traces sampled on a
 common time grid.
 """
 
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -42,7 +43,7 @@ def compare(scene: Scene, modes: int = 16, samples: int = 1200) -> dict[str, Any
         scene.a, scene.kappa0, scene.seed, u_ref=30 * u_ref
     )
     t_stop = 1.1 * lin.t_ref + 1.0
-    run = simulate_scene(scene, t_end=t_stop)
+    run = simulate_scene(replace(scene, t_end=t_stop))
     t = np.linspace(0.0, min(run.t[-1], lin.t[-1]), samples)
     return {
         "t": t,
@@ -76,14 +77,14 @@ def load(
         if rec is None:
             if not compute:
                 raise LookupError(
-                    f"no {KIND} record for {sc.label()} in {store.root}: run `make data`"
+                    f"no {KIND} record for {sc.label()} in {store.root}: run `make data-studies`"
                 )
             rec = store.read(store.save(KIND, params, compare(sc, modes, samples)))
         out.append(rec["result"])
     return out
 
 
-if __name__ == "__main__":  # make data
+if __name__ == "__main__":  # make data-studies
     import argparse
 
     from ..store.results import ON_STALE

@@ -2,7 +2,7 @@
 eq (28) (section 5): kappa3 at t = 0.04 s against the exact d'Alembert solution, the grid
 refined in space and time together at three Courant numbers and three lambda_inf (time).
 
-Records of kind ``wave-convergence`` (cached in ``data/``, ``make data``) hold one row per
+Records of kind ``wave-convergence`` (cached in ``data/``, ``make data-studies``) hold one row per
 grid: its errors and the wall time of its solve, so that the Accuracy page reads the study
 instead of running 45 solves.
 """
@@ -74,13 +74,13 @@ def load(
 ) -> dict[str, Any]:
     """The record of the study ``params`` (:data:`PARAMS`) from ``store`` (default
     data/scenes): computed when missing or stale with ``compute=True`` (a stale one refused
-    with ``on_stale="error"``), refused otherwise (:class:`LookupError` naming ``make data``)."""
+    with ``on_stale="error"``), refused otherwise (:class:`LookupError` naming ``make data-studies``)."""
     return read_or_compute(
         KIND, params, lambda: convergence(params), store, compute=compute, on_stale=on_stale
     )
 
 
-if __name__ == "__main__":  # make data
+if __name__ == "__main__":  # make data-studies
     import argparse
 
     from ..store.results import ON_STALE

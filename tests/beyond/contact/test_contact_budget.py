@@ -12,7 +12,13 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from dyntorsion import Rod
-from dyntorsion.beyond.contact.budget import SchemeBudget, energy_weights, rate_identity
+from dyntorsion.beyond.contact.budget import (
+    Level,
+    Loads,
+    SchemeBudget,
+    energy_weights,
+    rate_identity,
+)
 from dyntorsion.beyond.contact.run import Contact, ContactScene, run_contact_scene
 from dyntorsion.buckling.scene import Scene
 from dyntorsion.buckling.seed import Perturbation
@@ -66,7 +72,7 @@ def test_the_pairing_needs_the_box_scheme_in_space():
         co = Scheme(lam_s=-0.9).coefficients(0.1, 0.01)
     z = np.zeros((3, 12))
     with pytest.raises(ValueError, match="lam_s = -1"):
-        budget.step(co, 0.01, z, z, z, z, z, z, z)
+        budget.step(co, 0.01, Level(z, z), Level(z, z), Loads(z, z, z))
 
 
 def _run(quadrature: str, viscous: float, implicit: bool = True, t_end: float = 6.0) -> dict:

@@ -11,6 +11,8 @@ import numpy as np
 import pytest
 
 from dyntorsion.beyond.contact.implicit import (
+    Known,
+    Layout,
     Pairs,
     StepParams,
     add_blocks,
@@ -24,8 +26,8 @@ from dyntorsion.beyond.contact.linear import (
     sparse_solve,
     woodbury_solve,
 )
-from dyntorsion.beyond.contact.marching import _factor, _residual_jacobian
-from dyntorsion.genalpha.discrete import setup
+from dyntorsion.beyond.contact.marching import factor_jacobian, residual_jacobian
+from dyntorsion.genalpha.discrete import Start, setup
 from dyntorsion.genalpha.scheme import Scheme
 from dyntorsion.model.cosserat import Cosserat
 from dyntorsion.model.rod import Rod
@@ -71,7 +73,9 @@ def test_the_jacobian_columns_are_the_derivative_of_the_contact_residual():
     sp, pairs, R, V_old, u, weights, rs, ys = _case(rng)
 
     def res(u):
-        src = contact_source(sp, pairs, R, V_old, W_OLD, u, weights, NF, NBL, rs, ys, band=False)
+        src = contact_source(
+            sp, pairs, Known(R, V_old, W_OLD), u, weights, Layout(NF, NBL, rs, ys), band=False
+        )
         r = np.zeros(NF * (N + 1))
         add_to_residual(r, src.q, sp, NF, NBL, rs)
         return r, src
@@ -101,7 +105,7 @@ def test_the_jacobian_columns_are_the_derivative_of_the_contact_residual():
     f_lab = -np.einsum("nji,nj->ni", R_new, src.q[:, 0:3]) * weights[:, None]
     assert np.linalg.norm(f_lab.sum(axis=0)) > 0
     self_pair = pairs._replace(**{k: getattr(pairs, k)[:1] for k in Pairs._fields})
-    one = contact_source(sp, self_pair, R, V_old, W_OLD, u, weights, NF, NBL, rs, ys)
+    one = contact_source(sp, self_pair, Known(R, V_old, W_OLD), u, weights, Layout(NF, NBL, rs, ys))
     f1 = -np.einsum("nji,nj->ni", R_new, one.q[:, 0:3]) * weights[:, None]
     assert np.allclose(f1.sum(axis=0), 0.0, atol=1e-12 * np.abs(f1).max())
 
@@ -112,7 +116,9 @@ def test_the_rounded_clip_acts_only_within_smooth_d_of_touching(overlap, force):
     smooth D = 1e-6 m, and a force within it."""
     rng = np.random.default_rng(3)
     sp, pairs, R, V_old, u, weights, rs, ys = _case(rng, overlap=overlap)
-    src = contact_source(sp, pairs, R, 0.0 * V_old, W_OLD, 0.0 * u, weights, NF, NBL, rs, ys)
+    src = contact_source(
+        sp, pairs, Known(R, 0.0 * V_old, W_OLD), 0.0 * u, weights, Layout(NF, NBL, rs, ys)
+    )
     assert bool(src.q.any()) is force and (src.U.shape[0] > 0) is force
 
 
@@ -141,21 +147,29 @@ def test_the_contact_solves_are_the_dense_solve(solver):
     left, right = scene.ends.rows(system, scene.twist, scene.tension)
     y0 = np.zeros((N + 1, NF))
     y0[:, system.index("k3")] = 10.0
-    con, w, fac = setup(system, Scheme(), N, rod.L / N, 2.5e-4, left, right, y0, np.zeros_like(y0))
+    start = Start(y0, np.zeros_like(y0))
+    con, w, fac = setup(system, Scheme(), N, rod.L / N, 2.5e-4, left, right, start)
     w.y[:, :] = y0 + 1e-3 * rng.normal(size=y0.shape)
     gL, gR = left.at(np.array([2.5e-4]))[0], right.at(np.array([2.5e-4]))[0]
-    res = _residual_jacobian(system.F, system.dF, con, gL, gR, w)
-    assert _factor(con, w, fac) < 0 and np.isfinite(res)
+    res = residual_jacobian(system.F, system.dF, con, gL, gR, w)
+    assert factor_jacobian(con, w, fac) < 0 and np.isfinite(res)
     plain = _dense(w)
     law = LawParams(rod.thickness, 2e7, 30.0, rod.L / N, 0.003)
     sp = StepParams(law, 2.5e-4, 0.5, 0.5, 0.5, 1e-3)
     _, pairs, R, V_old, _, weights, _, _ = _case(rng)
     weights = np.full(N + 1, rod.L / N)
-    args = (sp, pairs, R, V_old, W_OLD, w.y, weights, NF, NBL, con.rscale, con.yscale)
+    args = (
+        sp,
+        pairs,
+        Known(R, V_old, W_OLD),
+        w.y,
+        weights,
+        Layout(NF, NBL, con.rscale, con.yscale),
+    )
     src, whole = contact_source(*args), contact_source(*args, band=False)
     assert src.U.shape[0] == 2 and src.nodes.size == 6
     add_blocks(src.nodes, src.turn, w.dF)
-    assert _factor(con, w, fac) < 0
+    assert factor_jacobian(con, w, fac) < 0
     J = _dense(w) + src.U.T @ src.G
     # the frames' blocks in the band are the three rank-one terms a node of band=False
     assert np.allclose(J, plain + whole.U.T @ whole.G, rtol=0, atol=1e-14 * np.abs(J).max())
@@ -176,20 +190,20 @@ def _gather_by_definition(law, r, reach, tails):
     """The candidate pairs by their definition, in plain Python: every segment pair
     farther apart along the rod than min_arc with closest points nearer than ``reach``, and
     every segment against the axis piece beyond either end."""
-    from dyntorsion.beyond.contact.law import _closest
+    from dyntorsion.beyond.contact.law import closest_points
 
     found = {}
     n_seg = r.shape[0] - 1
     for i in range(n_seg):
         for j in range(i + 1, n_seg):
             if (j - i - 1) * law.ds > law.min_arc:
-                s, t, dv = _closest(r[i], r[i + 1], r[j], r[j + 1])
+                s, t, dv = closest_points(r[i], r[i + 1], r[j], r[j + 1])
                 if 0 < np.linalg.norm(dv) < reach:
                     found[(i, j)] = (s, t, dv)
         for side in range(2):
             gap = (n_seg - 1 - i) * law.ds if side else i * law.ds
             if gap > law.min_arc:
-                s, t, dv = _closest(r[i], r[i + 1], tails[side, 0], tails[side, 1])
+                s, t, dv = closest_points(r[i], r[i + 1], tails[side, 0], tails[side, 1])
                 if 0 < np.linalg.norm(dv) < reach:
                     found[(i, -1 - side)] = (s, t, dv)
     return found
@@ -261,8 +275,8 @@ def test_the_fixed_normal_cannot_be_crossed_within_a_step(h):
     for _ in range(50):  # Newton on the scalar problem (piecewise linear: exact in 2 steps)
         u = np.zeros((2, 12))
         u[:, 2] = v, -v
-        q = contact_source(sp, pairs, R, V_old, np.zeros((2, 3)), u, np.full(2, 0.01), 12, 6,
-                           np.ones(12), np.ones(12), False).q  # fmt: skip
+        q = contact_source(sp, pairs, Known(R, V_old, np.zeros((2, 3))), u, np.full(2, 0.01),
+                           Layout(12, 6, np.ones(12), np.ones(12)), False).q  # fmt: skip
         f = -q[0, 2] * 0.01
         g = m * (v + 0.5) - 0.5 * h * f
         dg = m + 0.5 * h * 0.01 * 2e7 * 0.5 * h * 2 if f > 0 else m

@@ -10,6 +10,7 @@ import sys
 from importlib import metadata
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from dyntorsion.store import environment as E
@@ -96,7 +97,22 @@ def test_a_record_is_resumed_only_in_the_environment_it_was_begun_in(tmp_path, c
     records.write(out, dict(begun, code=elsewhere))
     assert records.resume(out, fresh) == fresh
     assert "another numerical environment" in capsys.readouterr().out
-    # other parameters: started over, with nothing to say about the environment
+    # other parameters: started over, saying what differs
     records.write(out, dict(begun, params={"n": 2}))
     assert records.resume(out, fresh) == fresh
+    said = capsys.readouterr().out
+    assert "params differ" in said and "environment" not in said
+
+
+def test_a_record_is_resumed_with_parameters_as_json_reads_them_back(tmp_path, capsys):
+    # tuples come back from JSON as lists and numpy scalars as numbers: still the same run
+    out = tmp_path / "record.json"
+    script = tmp_path / "bench.py"
+    script.write_text("print(1)\n")
+    code = F.script_provenance(script, ("dyntorsion.buckling:simulate",))
+    params = {"direction": (1.0, 0.0, 0.0), "dt": np.float64(0.02), "n": np.int64(200)}
+    begun = {"params": params, "code": code, "runs": [{"n": 200}]}
+    out.write_text(json.dumps(begun, default=float))
+    fresh = {"params": params, "code": code, "runs": []}
+    assert records.resume(out, fresh)["runs"] == [{"n": 200}]
     assert capsys.readouterr().out == ""

@@ -21,7 +21,7 @@ from .law import NO_CONTACT, contact_forces, contact_sites
 from .topology import closed_polygon, link_turns, passage, twist_turns, writhe_turns
 
 
-class _Between:
+class Between:
     """What the run does between steps (module docstring): the engine's stop test and the
     source q(s, t) of the next level."""
 
@@ -201,8 +201,10 @@ class _Between:
             self.worst_gap = max(self.worst_gap, abs(gap))
 
 
-def _lagged(between, system, scene, grid, y0, left, right, q_seed, check_every):
-    """The lagged route through the engine (module docstring): the run and how it ended."""
+def march_lagged(between, system, scene, grid, y0, left, right, q_seed):
+    """The lagged route through the engine (module docstring), checked every
+    ``between.check_every`` steps: the run and how it ended."""
+    check_every = between.check_every
     try:
         run = integrate(
             system, grid, y0=y0, left=left, right=right, scheme=scene.scheme,

@@ -32,15 +32,17 @@ with its counterpart: the contact's work against the law's stored energy and das
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 
 from ...genalpha.scheme import Coefficients
 from ...model.cosserat import Params
 
-__all__ = ["SchemeBudget", "energy_weights", "conjugate", "rate_identity", "work_done", "share",
+__all__ = ["Level", "Loads", "SchemeBudget", "energy_weights", "conjugate", "rate_identity", "work_done", "share",
            "nodal_share"]  # fmt: skip
 
 
@@ -78,6 +80,23 @@ def _cells(x: np.ndarray) -> np.ndarray:
     return 0.5 * x[1:] + 0.5 * x[:-1]
 
 
+class Level(NamedTuple):
+    """One time level of a step at the N+1 nodes: the fields ``y`` and their rates ``v``
+    (both (N+1, 12))."""
+
+    y: np.ndarray
+    v: np.ndarray
+
+
+class Loads(NamedTuple):
+    """The nodal sources q of eq (7) of a step (each (N+1, 12)): the constant ``seed``
+    and the contact's at the known (``old``) and the new (``new``) level."""
+
+    seed: np.ndarray
+    old: np.ndarray
+    new: np.ndarray
+
+
 @dataclass
 class SchemeBudget:
     """The energy lines of a run summed step by step [J] (module docstring)."""
@@ -100,10 +119,12 @@ class SchemeBudget:
     def __post_init__(self):
         self._ew, self._z = energy_weights(self.params), conjugate(self.params)
 
-    def step(self, co: Coefficients, h: float, y_old, y_new, v_old, v_new, q_seed, q_old,
-             q_new) -> None:  # fmt: skip
-        """Add the step from (y_old, v_old) to (y_new, v_new) of length h; the sources
-        are the nodal q of eq (7) (q_seed constant, the contact's at the two levels)."""
+    def step(self, co: Coefficients, h: float, old: Level, new: Level, loads: Loads) -> None:
+        """Add the step of length ``h`` [s] from the :class:`Level` ``old`` to ``new``,
+        with the scheme's coefficients ``co`` and the step's :class:`Loads`; a ValueError
+        unless the scheme is the box scheme in space (lam_s = -1)."""
+        (y_old, v_old), (y_new, v_new) = old, new
+        q_seed, q_old, q_new = loads
         if not (co.a_s == 0.5 and co.b_s == 0.5):
             raise ValueError(
                 f"the budget's pairing needs lam_s = -1 (a_s = b_s = 1/2), got a_s={co.a_s}"
@@ -152,8 +173,10 @@ def work_done(lines: Mapping[str, float]) -> float:
 
 def share(lines: Mapping[str, float], key: str) -> float:
     """One line of a run's ``energy_scheme`` over the work done (:func:`work_done`); a run's
-    ``energy_residual_scheme`` is ``-share(lines, "rest")``."""
-    return lines[key] / work_done(lines)
+    ``energy_residual_scheme`` is ``-share(lines, "rest")``; NaN when no work was done (a
+    rod held still, e.g. by a vast viscous damping: no share to read)."""
+    work = work_done(lines)
+    return lines[key] / work if work != 0.0 else math.nan
 
 
 def nodal_share(energy: Mapping[str, float], key: str) -> float:

@@ -85,9 +85,9 @@ from scipy.spatial import cKDTree
 
 from ... import shapes
 from ..._numba import IndexMatrix, Matrix, Vector, jit
-from .law import LawParams, _closest, _share
+from .law import LawParams, closest_points, node_share
 
-__all__ = ["StepParams", "Pairs", "candidates", "contact_source"]
+__all__ = ["Known", "Layout", "StepParams", "Pairs", "candidates", "contact_source"]
 
 
 class StepParams(NamedTuple):
@@ -146,7 +146,7 @@ def _gather_kernel(p: LawParams, r, pairs, reach, tails, fixtures, out: Pairs):
             i, j = j, i
         if (j - i - 1) * p.ds <= p.min_arc:
             continue
-        s, t, dv = _closest(r[i], r[i + 1], r[j], r[j + 1])
+        s, t, dv = closest_points(r[i], r[i + 1], r[j], r[j + 1])
         d = math.sqrt(dv @ dv)
         if d >= reach or d == 0.0:
             continue
@@ -154,7 +154,7 @@ def _gather_kernel(p: LawParams, r, pairs, reach, tails, fixtures, out: Pairs):
         sigma[k, 0], sigma[k, 1], sigma[k, 2], sigma[k, 3] = 1.0 - s, s, -(1.0 - t), -t
         normal[k] = dv / d
         dist[k] = dv
-        weight[k] = p.ds * _share(s) * _share(t)
+        weight[k] = p.ds * node_share(s) * node_share(t)
         k += 1
     if not fixtures:
         return k
@@ -169,7 +169,7 @@ def _gather_kernel(p: LawParams, r, pairs, reach, tails, fixtures, out: Pairs):
             gap = (n_seg - 1 - i) * p.ds if side == 1 else i * p.ds
             if gap <= p.min_arc:
                 continue
-            s, _, dv = _closest(r[i], r[i + 1], tails[side, 0], tails[side, 1])
+            s, _, dv = closest_points(r[i], r[i + 1], tails[side, 0], tails[side, 1])
             d = math.sqrt(dv @ dv)
             if d >= reach or d == 0.0:
                 continue
@@ -177,7 +177,7 @@ def _gather_kernel(p: LawParams, r, pairs, reach, tails, fixtures, out: Pairs):
             sigma[k, 0], sigma[k, 1], sigma[k, 2], sigma[k, 3] = 1.0 - s, s, 0.0, 0.0
             normal[k] = dv / d
             dist[k] = dv
-            weight[k] = p.ds * _share(s)
+            weight[k] = p.ds * node_share(s)
             k += 1
     return k
 
@@ -271,13 +271,37 @@ class Source(NamedTuple):
     active: int
 
 
-def contact_source(sp: StepParams, pairs: Pairs, R_old, V_old, w_old, y_new, weights, nf, nbl,
-                   rscale, yscale, want_jac: bool = True, band: bool = True) -> Source:  # fmt: skip
-    """The contact source and its Jacobian (module docstring, C1-C5) at the iterate y_new
-    (body velocities u = y[:, 0:3], spins w = y[:, 3:6]); ``R_old``, ``V_old`` and ``w_old``
-    the frames, lab velocities and spins of the known level.  ``band``: the frames' blocks
-    (C4, second line) as ``turn`` for the banded Jacobian (a trapezoidal quadrature adds
-    them to its nodal dF); else as three more rank-one terms a node in ``U``, ``G``."""
+class Known(NamedTuple):
+    """The known level of a step, at the N+1 nodes: the frames ``R`` (N+1, 3, 3), the lab
+    velocities ``V`` (N+1, 3) [m/s] and the spins ``w`` (N+1, 3) [rad/s]."""
+
+    R: np.ndarray
+    V: np.ndarray
+    w: np.ndarray
+
+
+class Layout(NamedTuple):
+    """The layout of the step's scaled residual and unknowns: ``nf`` fields a node, the
+    ``nbl`` boundary rows at s = 0 first, the scales of the rows ``rscale`` (nf,) and of
+    the unknowns ``yscale`` (nf,) (:class:`~dyntorsion.genalpha.discrete.Constants`)."""
+
+    nf: int
+    nbl: int
+    rscale: np.ndarray
+    yscale: np.ndarray
+
+
+def contact_source(sp: StepParams, pairs: Pairs, known: Known, y_new, weights, layout: Layout,
+                   want_jac: bool = True, band: bool = True) -> Source:  # fmt: skip
+    """The contact source and its Jacobian (module docstring, C1-C5) at the iterate
+    ``y_new`` (N+1, nf) (body velocities u = y[:, 0:3], spins w = y[:, 3:6]), the step
+    from the :class:`Known` level ``known``; ``weights`` (N+1,) the nodes' lengths
+    [m]; ``layout`` the residual's :class:`Layout`.  ``want_jac`` False: the source
+    alone (empty terms).  ``band``: the frames' blocks (C4, second line) as ``turn`` for
+    the banded Jacobian (a trapezoidal quadrature adds them to its nodal dF); else as
+    three more rank-one terms a node in ``U``, ``G``."""
+    R_old, V_old, w_old = known
+    nf, nbl, rscale, yscale = layout
     n1 = R_old.shape[0]
     R = shapes.rodrigues(0.5 * sp.dt * (y_new[:, 3:6] + w_old)) @ R_old  # (C1)
     V_new = np.einsum("nji,nj->ni", R, y_new[:, 0:3])

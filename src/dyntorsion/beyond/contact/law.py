@@ -52,6 +52,8 @@ __all__ = [
     "contact_forces",
     "contact_sites",
     "lag_cost",
+    "closest_points",
+    "node_share",
 ]
 
 
@@ -80,7 +82,7 @@ class ContactForces(NamedTuple):
 
 
 @jit
-def _closest(a0, a1, b0, b1):
+def closest_points(a0, a1, b0, b1):
     """Closest points of segments a0-a1 and b0-b1: (s, t, distance vector a(s) - b(t))."""
     d1, d2, w = a1 - a0, b1 - b0, a0 - b0
     a = d1 @ d1
@@ -99,7 +101,7 @@ def _closest(a0, a1, b0, b1):
 
 
 @jit
-def _share(s):
+def node_share(s):
     """1/2 when the closest point is a segment's end node (the neighbour segment sharing it
     finds the same contact: a contact at a node counts once), else 1."""
     return 0.5 if s <= 0.0 or s >= 1.0 else 1.0
@@ -109,7 +111,7 @@ def _share(s):
 def _pair(p: LawParams, a0, a1, va, b0, b1, vb, obstacle):
     """(overlap, s, t, force on segment a, dashpot power, energy, approach speed) of one
     pair; overlap <= 0: no contact.  ``obstacle``: b is a fixed piece (no neighbour shares its ends)."""
-    s, t, dv = _closest(a0, a1, b0, b1)
+    s, t, dv = closest_points(a0, a1, b0, b1)
     d = math.sqrt(dv @ dv)
     delta = p.diameter - d
     if delta <= 0.0 or d == 0.0:
@@ -117,7 +119,7 @@ def _pair(p: LawParams, a0, a1, va, b0, b1, vb, obstacle):
     n = dv / d
     vrel = (1.0 - s) * va[0] + s * va[1] - (1.0 - t) * vb[0] - t * vb[1]
     vn = vrel @ n
-    w = p.ds * _share(s) * (1.0 if obstacle else _share(t))
+    w = p.ds * node_share(s) * (1.0 if obstacle else node_share(t))
     mag = max(0.0, p.stiffness * delta - p.damping * vn)
     dash = -p.damping * vn if mag > 0.0 else 0.0
     return delta, s, t, w * mag * n, w * dash * vn, 0.5 * w * p.stiffness * delta * delta, -vn

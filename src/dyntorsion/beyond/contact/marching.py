@@ -10,7 +10,7 @@ the same as a scene without contact, with its retry from the other predictor); s
 full Newton solve with the contact's source and Jacobian at every iteration (the frames'
 blocks of (C5) in the banded Jacobian, a rank-one term a pressing pair by :mod:`.linear`:
 Woodbury on the banded factors, or a sparse LU for many pairs).  Between steps
-the same bookkeeping as the lagged route (:class:`.between._Between`: rebuild, law on the
+the same bookkeeping as the lagged route (:class:`.between.Between`: rebuild, law on the
 rebuilt shape for the reported overlap, energy budget with the source the step used,
 topology), so both routes report alike.
 """
@@ -20,6 +20,7 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass
+from typing import Any, NamedTuple
 
 import numba
 import numpy as np
@@ -29,7 +30,17 @@ from numba.experimental.function_type import _get_wrapper_address
 from ..._numba import A1, A2, JACOBIAN_SIGNATURE, LOAD_SIGNATURE, jit
 from ...buckling.stops import STRAIGHT
 from ...genalpha import abd as _abd
-from ...genalpha.discrete import CONSTANTS, WORK, constants, factor, prepare_step, residual, setup
+from ...genalpha.discrete import (
+    CONSTANTS,
+    WORK,
+    Start,
+    constants,
+    factor,
+    prepare_step,
+    residual,
+    setup,
+)
+from ...genalpha.march import StepContext
 from ...genalpha.newton import (
     NEWTON_OPTIONS,
     ConvergenceError,
@@ -39,8 +50,11 @@ from ...genalpha.newton import (
 )
 from ...genalpha.plan import Source as EngineSource
 from ...genalpha.plan import initial_rate
+from .budget import Level, Loads
 from .implicit import (
     NO_PAIRS,
+    Known,
+    Layout,
     StepParams,
     add_blocks,
     add_to_residual,
@@ -49,7 +63,14 @@ from .implicit import (
 )
 from .linear import contact_solve
 
-__all__ = ["Marched", "march_implicit"]
+__all__ = [
+    "Engine",
+    "Substeps",
+    "Marched",
+    "march_implicit",
+    "residual_jacobian",
+    "factor_jacobian",
+]
 
 
 _F = numba.types.FunctionType(LOAD_SIGNATURE)
@@ -65,14 +86,14 @@ def _prepare(F, con, w, qs, q_old, q_new):
 
 
 @jit(signature=numba.float64(_F, _DF, CONSTANTS, A1, A1, WORK))
-def _residual_jacobian(F, dF, con, gL, gR, w):
+def residual_jacobian(F, dF, con, gL, gR, w):
     """The residual w.r at w.y (its RMS) and the Jacobian of F at the quadrature points
-    (w.dF), which :func:`_factor` assembles."""
+    (w.dF), which :func:`factor_jacobian` assembles."""
     return residual(F, dF, con, gL, gR, w.y, w, w.r, True)
 
 
 @jit(signature=_I(CONSTANTS, WORK, _abd.FACTORS))
-def _factor(con, w, fac):
+def factor_jacobian(con, w, fac):
     """The LU factors of the banded Jacobian assembled from w.dF (the column of a zero
     pivot, or -1)."""
     return factor(con, w, fac)
@@ -141,26 +162,28 @@ class Marched:
         }
 
 
-def _contact_newton(system, F, dF, con, w, fac, gL, gR, sp, pairs, R, V_old, weights, opts):
-    """Newton for the step with the contact's source (module docstring) from w.y, a full
-    Jacobian at every iteration and a backtracking on the RMS residual (halving the
+def _contact_newton(F, dF, ctx: StepContext, gL, gR, sp, pairs, known: Known, weights):
+    """Newton for the step with the contact's source (module docstring) from ctx.work.y,
+    a full Jacobian at every iteration and a backtracking on the RMS residual (halving the
     correction up to 5 times while it grows); returns (converged, iterations, the
-    contact's :class:`~.implicit.Source` at the solution)."""
-    nf, nbl = system.nf, con.left_rows.shape[0]
+    contact's :class:`~.implicit.Source` at the solution).  ``gL``, ``gR``: the boundary
+    values at the new level; ``known``: the step's :class:`~.implicit.Known` level."""
+    con, w, fac, opts = ctx
+    nf, nbl = w.y.shape[1], con.left_rows.shape[0]
     ys, rs = con.yscale, con.rscale
+    layout = Layout(nf, nbl, rs, ys)
     y, r, dx, yt, rt = w.y, w.r, w.dx, w.y_trial, w.r_trial
-    w_old = np.ascontiguousarray(w.y_old[:, 3:6])
 
     def rms(v):
         return float(np.sqrt(np.mean(v * v)))
 
     band = con.co.trapezoidal  # the frames' blocks of (C5) into the nodal dF
-    _residual_jacobian(F, dF, con, gL, gR, w)
+    residual_jacobian(F, dF, con, gL, gR, w)
     for it in range(1, opts.max_iter + 1):
-        src = contact_source(sp, pairs, R, V_old, w_old, y, weights, nf, nbl, rs, ys, True, band)
+        src = contact_source(sp, pairs, known, y, weights, layout, True, band)
         add_to_residual(r, src.q, sp, nf, nbl, rs)
         add_blocks(src.nodes, src.turn, w.dF)
-        pivot = _factor(con, w, fac)
+        pivot = factor_jacobian(con, w, fac)
         res = rms(r)
         if not math.isfinite(res) or pivot >= 0:
             w.factored[0] = 0
@@ -172,19 +195,19 @@ def _contact_newton(system, F, dF, con, w, fac, gL, gR, sp, pairs, R, V_old, wei
             return False, it, src
         if nd <= opts.tol:
             axpy_scaled(y, 1.0, dx, ys, y)
-            src = contact_source(sp, pairs, R, V_old, w_old, y, weights, nf, nbl, rs, ys, False)
+            src = contact_source(sp, pairs, known, y, weights, layout, False)
             return True, it, src
         lam = 1.0
         for _ in range(6):
             axpy_scaled(y, lam, dx, ys, yt)
             _residual_only(F, dF, con, gL, gR, w)
-            trial = contact_source(sp, pairs, R, V_old, w_old, yt, weights, nf, nbl, rs, ys, False)
+            trial = contact_source(sp, pairs, known, yt, weights, layout, False)
             add_to_residual(rt, trial.q, sp, nf, nbl, rs)
             if rms(rt) < res:
                 break
             lam *= 0.5
         y[:, :] = yt
-        _residual_jacobian(F, dF, con, gL, gR, w)
+        residual_jacobian(F, dF, con, gL, gR, w)
     return False, opts.max_iter, src
 
 
@@ -198,24 +221,47 @@ class _Level:
         self.sp = StepParams(law, h, 0.5, co.b_t, co.b_s, smooth)  # C1: the time route's rule
 
 
-def march_implicit(between, system, scheme, newton, grid, y0, left, right, q_seed,
-                   substeps: int, min_step: float = 1e-7) -> Marched:  # fmt: skip
-    """March ``grid`` from y0 with the contact implicit (module docstring); ``between`` is
-    the run's :class:`.between._Between`, consulted after every step.
+class Engine(NamedTuple):
+    """The engine a run past contact marches with: the model (``system``, a
+    :class:`~dyntorsion.model.cosserat.Cosserat`), the :class:`~dyntorsion.genalpha.Scheme`
+    and the :class:`~dyntorsion.genalpha.Newton` options."""
+
+    system: Any
+    scheme: Any
+    newton: Any
+
+
+class Substeps(NamedTuple):
+    """How a step near contact is split: into ``count`` substeps at first, halved after
+    a failed solve down to ``shortest`` [s]."""
+
+    count: int
+    shortest: float = 1e-7
+
+
+def march_implicit(between, engine: Engine, grid, y0, left, right, q_seed,
+                   substeps: Substeps) -> Marched:  # fmt: skip
+    """March ``grid`` from ``y0`` (N+1, nf) with the contact implicit (module docstring),
+    the :class:`Engine` ``engine``, the boundary rows ``left`` and ``right`` and the seed
+    source ``q_seed`` (N+1, nf); ``between`` is the run's :class:`.between.Between`,
+    consulted after every step.
 
     **Step control.**  A step of ``grid.dt`` near which no pair can touch and in which the
     rod moves slowly (:func:`fast`) is taken whole.  Otherwise the step is crossed by
-    substeps h_j = grid.dt / (``substeps`` 2^j), j >= 0, the longest for which the rod is
-    not fast; a step whose Newton solve fails is retried at the next shorter level (down to
-    ``min_step``), and after a success the level may grow by one where the substeps align.
+    substeps h_j = grid.dt / (``substeps.count`` 2^j), j >= 0, the longest for which the rod
+    is not fast; a step whose Newton solve fails is retried at the next shorter level (down
+    to ``substeps.shortest``), and after a success the level may grow by one where the
+    substeps align.
     Measured (a = 16, N = 200): in the whip the frames spin at up to ~3000 rad/s, and at
     a fixed h = 2.5e-4 s a third of the Newton solves failed in 30 iterations, most with no
     contact active (the body-frame kinematics turned by ~0.8 rad within a step)."""
+    system, scheme, newton = engine
+    substeps, min_step = substeps
     n1, nf, ds = y0.shape[0], system.nf, grid.ds
     n_steps = int(math.ceil((grid.t_end - grid.t0) / grid.dt - 1e-9))
     src0 = EngineSource.of(grid.s, nf, (q_seed, None), None)
     rate0 = initial_rate(system, y0, ds, "consistent", src0, grid.t0)
-    _, w, fac = setup(system, scheme, n1 - 1, ds, grid.dt, left, right, y0, rate0)
+    _, w, fac = setup(system, scheme, n1 - 1, ds, grid.dt, left, right, Start(y0, rate0))
     whole = _Level(system, scheme, ds, grid.dt, left, right, between.law, between.c.smooth)
     h0 = grid.dt / substeps
     j_max = max(0, int(math.floor(math.log2(h0 / min_step)))) if h0 > min_step else 0
@@ -271,9 +317,9 @@ def march_implicit(between, system, scheme, newton, grid, y0, left, right, q_see
             R, _ = recon.frames(True)
             V_old = motion()["V"]
             w.y[:, :] = w.y_old + h * w.rate_old  # the rate predictor
-            ok, its, src = _contact_newton(
-                system, F, dF, con, w, fac, gL, gR, lv.sp, near, R, V_old, weights, contact_opts
-            )
+            known = Known(R, V_old, np.ascontiguousarray(w.y_old[:, 3:6]))
+            ctx = StepContext(con, w, fac, contact_opts)
+            ok, its, src = _contact_newton(F, dF, ctx, gL, gR, lv.sp, near, known, weights)
             q_new = src.q
             out.contact_steps += 1
             out.contact_iterations += its
@@ -287,8 +333,9 @@ def march_implicit(between, system, scheme, newton, grid, y0, left, right, q_see
         g_t = con.co.g_t  # eq (11): the new rate from the new level
         rate = (w.y - w.y_old) / (g_t * h) - (1.0 - g_t) / g_t * w.rate_old
         between.budget.step(
-            con.co, h, w.y_old, w.y, w.rate_old, rate, q_seed, state["q_old"], q_new
-        )
+            con.co, h, Level(w.y_old, w.rate_old), Level(w.y, rate),
+            Loads(q_seed, state["q_old"], q_new),
+        )  # fmt: skip
         w.rate_old[:, :] = rate
         w.y_old[:, :] = w.y
         state["q_old"] = q_new

@@ -42,11 +42,11 @@ from ...buckling.scene import Scene
 from ...genalpha import Grid
 from ...genalpha.guard import real
 from ...model.cosserat import Cosserat
-from .between import _Between, _lagged
+from .between import Between, march_lagged
 from .budget import share
 from .damped import damped_system
 from .law import LawParams, lag_cost
-from .marching import march_implicit
+from .marching import Engine, Substeps, march_implicit
 from .plectoneme import plectoneme_turns
 
 __all__ = ["Contact", "ContactScene", "ContactRun", "PassageError", "run_contact_scene"]
@@ -165,12 +165,20 @@ class ContactScene:
                 "run past contact applies the seed as a constant force in the body frame; give "
                 "frame='body' and duration=None"
             )
-        if self.scene.ends.name not in ("clamped", "clamped-turned"):
+        rod = self.scene.rod
+        if not self.contact.min_arc * rod.thickness < rod.L:
             raise ValueError(
-                f"ends={self.scene.ends.name!r}: past contact needs the ends of eq 30 "
-                "('clamped') or their rotation control ('clamped-turned'): both ends on the "
-                "e3 axis close the writhe"
+                f"contact min_arc={self.contact.min_arc!r} diameters: allowed range [1, "
+                f"{rod.L / rod.thickness:g}), below the rod's length L / D (no two parts of it "
+                "could touch)"
             )
+        if self.scene.loads:
+            raise ValueError(
+                "loads: a run past contact applies the seed only (no distributed loads)"
+            )
+        self.scene.ends.require(
+            "contact", "both ends held on the e3 axis close the writhe (eq 30's ends do)"
+        )
 
     def params(self) -> dict[str, Any]:
         return {**self.scene.params(), "contact": self.contact.params()}
@@ -266,15 +274,16 @@ def run_contact_scene(
     left, right = scene.ends.rows(system, hist, load)
     q_seed = model.external_force(scene.seed.force(s, rod.L))
     check_every = max(1, int(round(cs.contact.check / dt)))
-    between = _Between(cs, model, y0, rod.L / n, dt, q_seed, check_every, time_route)
+    between = Between(cs, model, y0, rod.L / n, dt, q_seed, check_every, time_route)
     if c.implicit:
         grid = Grid(n, rod.L, scene.dt, t_end)
-        run = march_implicit(between, system, scene.scheme, scene.newton, grid, y0, left, right,
-                             q_seed, cs.substeps(), c.min_step)  # fmt: skip
+        engine = Engine(system, scene.scheme, scene.newton)
+        run = march_implicit(between, engine, grid, y0, left, right, q_seed,
+                             Substeps(cs.substeps(), c.min_step))  # fmt: skip
         stopped = run.stopped
     else:
-        run, stopped = _lagged(between, system, scene, Grid(n, rod.L, dt, t_end), y0, left,
-                               right, q_seed, check_every)  # fmt: skip
+        run, stopped = march_lagged(between, system, scene, Grid(n, rod.L, dt, t_end), y0, left,
+                                    right, q_seed)  # fmt: skip
     between.finish(run.y, stopped == "t_end" and not c.implicit)
     h = {k: np.asarray(v) for k, v in between.hist.items()}
     work = between.work

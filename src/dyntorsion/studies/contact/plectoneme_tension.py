@@ -100,11 +100,7 @@ def bracket(kc: float) -> list[dict]:
     rows = []
     for f in F:
         turns = f * kc * LENGTH / (2 * math.pi)
-        run = simulate(
-            history=TurnHold(turns, T_BRACKET, tau=2.0), ends="clamped-turned", rod=rod(),
-            tension=TENSION, n_cells=N_BRACKET, dt=DT, t_end=T_HOLD, perturbation=seed(),
-            scheme=Scheme(lam_t=LAM_T), on_failure="return", snapshots=[T_HOLD],
-        )  # fmt: skip
+        run = simulate(Scene(history=TurnHold(turns, T_BRACKET, tau=2.0), ends="clamped-turned", rod=rod(), tension=TENSION, n_cells=N_BRACKET, dt=DT, t_end=T_HOLD, seed=seed(), scheme=Scheme(lam_t=LAM_T)), on_failure="return", snapshots=[T_HOLD])  # fmt: skip
         u = np.abs(run.u3_end)
         snap = run.run.snapshots
         bent = None if snap is None or len(snap) == 0 else float(np.abs(snap[-1][:, 6:8]).max())

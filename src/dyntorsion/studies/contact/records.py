@@ -55,15 +55,25 @@ def resume(out: Path, record: dict, keys: Sequence[str] = ("params", "code")) ->
     the environment was kept is resumed on the code alone)."""
     if out.exists():
         old = json.loads(out.read_text())
-        if all(_same(k, old.get(k), record[k]) for k in keys):
+        if all(_same(k, old.get(k), _as_stored(record[k])) for k in keys):
             return old
         was = (old.get("code") or {}).get("environment")
         if was is not None and all(
-            _same(k, old.get(k), record[k], environment=False) for k in keys
+            _same(k, old.get(k), _as_stored(record[k]), environment=False) for k in keys
         ):
             print(f"{out.name}: begun in another numerical environment "
                   f"({was}); starting over", flush=True)  # fmt: skip
+        else:
+            differ = [k for k in keys if not _same(k, old.get(k), _as_stored(record[k]))]
+            print(f"{out.name}: its {' and '.join(differ)} differ from this run's; "
+                  "starting over", flush=True)  # fmt: skip
     return record
+
+
+def _as_stored(value):
+    """``value`` as it reads back from the record's JSON (tuples as lists, numpy scalars as
+    numbers), so that a record on disk compares equal to the one this run would write."""
+    return json.loads(json.dumps(json_ready(value), allow_nan=False))
 
 
 def _same(key: str, old, new, environment: bool = True) -> bool:
