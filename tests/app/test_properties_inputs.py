@@ -285,6 +285,8 @@ def test_an_interrupt_keeps_the_items_an_executor_runs(tmp_path, sig, delay, exe
     store = tmp_path / f"s{time.monotonic_ns()}"
     pool = cf.ThreadPoolExecutor(2) if executor == "threads" else _PendingFutures()
     old = signal.signal(signal.SIGTERM, _terminate)
+    # Python's own Ctrl-C handler: a test run started as a background job ignores SIGINT
+    old_int = signal.signal(signal.SIGINT, signal.default_int_handler)
     timer = threading.Timer(delay, signal.raise_signal, args=(sig,))
     try:
         timer.start()
@@ -294,5 +296,6 @@ def test_an_interrupt_keeps_the_items_an_executor_runs(tmp_path, sig, delay, exe
     finally:
         timer.join()
         signal.signal(signal.SIGTERM, old)
+        signal.signal(signal.SIGINT, old_int)
     kept = sorted(p.name for p in store.glob(f"{ITEMS}-*.json"))
     assert len(kept) == 2  # the two running, not the third (never submitted)
