@@ -89,14 +89,15 @@ def paper_own_miss() -> float:
 def _triples(k: pd.DataFrame, rates: np.ndarray) -> list[tuple]:
     """(form, rule, lo, hi, a, kappa3) of every range whose every rate has an onset."""
     out = []
+    ranges = [(lo, hi, np.count_nonzero((rates >= lo) & (rates <= hi)))
+              for lo, hi in rate_ranges(rates)]  # fmt: skip
     for (form, rule), g in k.groupby(["form", "rule"]):
         g = g.sort_values("a")
-        for lo, hi in rate_ranges(rates):
-            sel = g[(g.a >= lo) & (g.a <= hi)]
-            if np.isfinite(sel.kappa3).all() and len(sel) == np.count_nonzero(
-                (rates >= lo) & (rates <= hi)
-            ):
-                out.append((form, rule, lo, hi, sel.a.to_numpy(), sel.kappa3.to_numpy()))
+        a, kappa3 = g.a.to_numpy(), g.kappa3.to_numpy()
+        for lo, hi, n in ranges:
+            inside = (a >= lo) & (a <= hi)
+            if np.count_nonzero(inside) == n and np.isfinite(kappa3[inside]).all():
+                out.append((form, rule, lo, hi, a[inside], kappa3[inside]))
     return out
 
 
@@ -127,6 +128,7 @@ def scan(
     ]
     d = direct[(direct.a == 1.6) & (direct.kappa0 == 0.0)]
     target = value("fig8_tc")
+    rod = Rod.paper()
     rows = []
     for seed, only in seeds:
         sub = (
@@ -143,7 +145,7 @@ def scan(
                 fig.get((form, rule, 1500.0), math.nan),
                 fig.get((form, rule, 5000.0), math.nan),
             )
-            res = law_residuals(a, k)
+            res = law_residuals(a, k, rod)
             row = {
                 "seed": seed,
                 "form": form,
@@ -187,10 +189,8 @@ def scan(
     )
     kc = critical_twist(Rod.paper())
     out["c4_gap"] = (out.kappa_cri_free - kc).abs() / kc
-    half = [
-        student.ppf(0.975, n - 3) * e for n, e in zip(out.n, out.kappa_cri_free_err, strict=True)
-    ]
-    out["c4_z"] = (out.kappa_cri_free - kc).abs() / np.asarray(half)
+    half = student.ppf(0.975, out.n.to_numpy() - 3) * out.kappa_cri_free_err.to_numpy()
+    out["c4_z"] = (out.kappa_cri_free - kc).abs() / half
     return out
 
 
