@@ -89,6 +89,9 @@ data-studies: data
 	$(PY) -m dyntorsion.studies.after_onset --on-stale $(ON_STALE)
 	$(PY) -m dyntorsion.studies.accuracy_runs --on-stale $(ON_STALE)
 	$(PY) -m dyntorsion.studies.consistency --jobs $(JOBS) --on-stale $(ON_STALE)
+	$(PY) -m dyntorsion.studies.tolerance_tables --on-stale $(ON_STALE)
+	$(PY) -m dyntorsion.studies.consistency_tables --on-stale $(ON_STALE)
+	$(PY) -m dyntorsion.studies.preset_endings --on-stale $(ON_STALE)
 
 ## site-check: open every page of the quick build (made by `make test`; built here when
 ## missing), or of SITE=docs/_build/html after `make docs`, in headless Chromium: fails on

@@ -8,6 +8,7 @@ import pytest
 import dyntorsion.studies  # noqa: F401  (registers the package's record kinds)
 from dyntorsion import __version__
 from dyntorsion.store import fingerprint as F
+from dyntorsion.store import fingerprint_cache
 from dyntorsion.store import results as R
 
 #: the demo records' kind, computed by this module's own code
@@ -347,3 +348,46 @@ def test_the_moved_scripts_table_pins_todays_code():
     for old, (target, sha, digest) in F.MOVED_SCRIPTS.items():
         assert len(sha) == 64 and old.endswith(".py")
         assert F._digest(F._where(target)) == digest, f"{old}: {target}'s code changed"
+
+
+def test_fingerprints_kept_on_disk_are_the_ones_computed(tmp_path, monkeypatch):
+    """A process reads back the fingerprints of a byte-identical package; a cache file that
+    cannot be read is recomputed over, never trusted."""
+    roots = F.KIND_ROOTS["wave-convergence"]
+    computed = F.fingerprint_of(F.reachable(roots))
+    cache = tmp_path / "fingerprints.json"
+    monkeypatch.setattr(fingerprint_cache, "cache_file", lambda: cache)
+    F.code_fingerprint.cache_clear()
+    try:
+        assert F.code_fingerprint(roots) == computed
+        kept = json.loads(cache.read_text())
+        assert list(kept.values()) == [computed]
+        F.code_fingerprint.cache_clear()
+        cache.write_text("{not json")
+        assert F.code_fingerprint(roots) == computed
+        F.code_fingerprint.cache_clear()
+        cache.write_text(json.dumps({next(iter(kept)): "0123456789abcdef"}))
+        assert F.code_fingerprint(roots) == "0123456789abcdef"  # read back, as written
+    finally:
+        F.code_fingerprint.cache_clear()
+
+
+def test_the_package_digest_names_the_cache_and_follows_every_byte(tmp_path):
+    digest = fingerprint_cache.package_digest
+    assert digest() in fingerprint_cache.cache_file().name
+    (tmp_path / "sub").mkdir()
+    (tmp_path / "a.py").write_text("X = 1\n")
+    (tmp_path / "sub" / "b.py").write_text("def f():\n    return 2\n")
+    before = digest(tmp_path)
+    digest.cache_clear()
+    (tmp_path / "sub" / "b.py").write_text("def f():\n    return 3\n")
+    assert digest(tmp_path) != before
+    digest.cache_clear()
+
+
+def test_a_study_that_caches_its_runs_is_not_fingerprinted_by_the_store():
+    """The store keeps records and computes no number: a study reading its runs through it
+    (accuracy-runs) does not reach it."""
+    reached = F.reachable(F.KIND_ROOTS["accuracy-runs"])
+    assert "dyntorsion.studies.sweep:run_sweep" in reached
+    assert not any(name.startswith("dyntorsion.store") for name in reached)

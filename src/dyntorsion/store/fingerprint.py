@@ -28,6 +28,7 @@ from functools import cache
 from pathlib import Path
 from typing import Any
 
+from . import fingerprint_cache
 from .moved_scripts import MOVED_SCRIPTS
 
 __all__ = [
@@ -108,9 +109,18 @@ def _unwrap(obj: Any) -> Any:
     return obj
 
 
+#: the package's own layers that keep records but compute no number: a record's
+#: fingerprint does not follow into them (a study that caches its runs in the store is
+#: not stale when the store's bookkeeping changes)
+NOT_COMPUTING = (f"{PACKAGE}.store",)
+
+
 def _ours(obj: Any) -> bool:
+    """Whether ``obj`` is the package's own code that computes numbers."""
     name = getattr(obj, "__name__", "") if inspect.ismodule(obj) else getattr(obj, "__module__", "")
-    return isinstance(name, str) and (name == PACKAGE or name.startswith(PACKAGE + "."))
+    if not isinstance(name, str) or not (name == PACKAGE or name.startswith(PACKAGE + ".")):
+        return False
+    return not any(name == m or name.startswith(m + ".") for m in NOT_COMPUTING)
 
 
 def _qualname(obj: Any) -> str:
@@ -214,8 +224,18 @@ def code_fingerprint(roots: tuple[str, ...]) -> str:
     """Hash of the code that computes cached results: the syntax trees of everything
     :func:`reachable` from ``roots``, with docstrings and comments removed and imports
     sorted, so documentation edits, formatting and import sorting do not invalidate
-    data, while an edit of any function on the path does."""
-    return fingerprint_of(reachable(roots))
+    data, while an edit of any function on the path does.
+
+    Walking the code takes about a second a kind; the result is kept on disk
+    (:mod:`.fingerprint_cache`), keyed by the bytes of every module of the package, so a
+    process whose package is byte for byte the same reads it back."""
+    name = "|".join((PACKAGE, *roots))
+    kept = fingerprint_cache.read(name)
+    if kept is not None:
+        return kept
+    fingerprint = fingerprint_of(reachable(roots))
+    fingerprint_cache.write(name, fingerprint)
+    return fingerprint
 
 
 def _local_name(name: str) -> str:

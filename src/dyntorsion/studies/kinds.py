@@ -35,6 +35,21 @@ KINDS: dict[str, tuple[str, ...]] = {
         "dyntorsion.studies.accuracy_runs:params",
         *_SCENE,
     ),
+    "tolerance-tables": (
+        "dyntorsion.studies.tolerance_tables:study",
+        "dyntorsion.studies.tolerance_tables:params",
+        *_SCENE,
+    ),
+    "consistency-tables": (
+        "dyntorsion.studies.consistency_tables:study",
+        "dyntorsion.studies.consistency_tables:params",
+        *_SCENE,
+    ),
+    "preset-endings": (
+        "dyntorsion.studies.preset_endings:study",
+        "dyntorsion.studies.preset_endings:params",
+        *_SCENE,
+    ),
     "contact-run": (
         "dyntorsion.beyond.contact.run:run_contact_scene",
         "dyntorsion.beyond.contact.run:ContactScene",

@@ -1,16 +1,132 @@
-"""One record of a study that a page reads: read it, or compute and save it (``make data-studies``)."""
+"""One record of a study that a page reads: read it, or compute and save it (``make data-studies``).
+
+Tables a page derives from many other records (:func:`read_or_compute_frames`) are kept
+the same way, as pandas DataFrames written by :func:`frame_to_json` and read back by
+:func:`frame_from_json` with their index, columns, dtypes and infinities intact."""
 
 from __future__ import annotations
 
+import math
 import time
 from collections.abc import Callable, Mapping
 from typing import Any
+
+import numpy as np
+import pandas as pd
 
 from ..store.location import default_store
 from ..store.results import ON_STALE, Store
 from . import fidelity
 
-__all__ = ["read_or_compute", "read_or_compute_at", "main_by_level"]
+__all__ = [
+    "read_or_compute",
+    "read_or_compute_at",
+    "read_or_compute_frames",
+    "frame_to_json",
+    "frame_from_json",
+    "main_by_level",
+]
+
+#: the layout :func:`frame_to_json` writes; part of every table record's key, so that a
+#: record written in another layout is missing, never misread
+FRAME_FORMAT = 2
+
+#: how a non-finite float is written (JSON has no NaN or infinity): {"float": name}
+_NON_FINITE = {"nan": math.nan, "inf": math.inf, "-inf": -math.inf}
+
+
+def _cell(v: Any) -> Any:
+    """One value of a frame as JSON holds it: numpy scalars as Python ones, a non-finite
+    float as ``{"float": "nan" | "inf" | "-inf"}``."""
+    if isinstance(v, np.generic):
+        v = v.item()
+    if isinstance(v, float) and not math.isfinite(v):
+        return {"float": "nan" if math.isnan(v) else ("inf" if v > 0 else "-inf")}
+    if isinstance(v, dict | list | tuple):
+        raise TypeError(f"value {v!r}: a page record's frame holds numbers, booleans and strings")
+    return v
+
+
+def _uncell(v: Any) -> Any:
+    return _NON_FINITE[v["float"]] if isinstance(v, dict) else v
+
+
+def _axis_to_json(axis: pd.Index) -> dict[str, Any]:
+    if isinstance(axis, pd.RangeIndex):
+        return {"range": [axis.start, axis.stop, axis.step], "names": [axis.name]}
+    levels = [axis.get_level_values(i) for i in range(axis.nlevels)]
+    return {
+        "levels": [[_cell(v) for v in level.tolist()] for level in levels],
+        "dtypes": [str(level.dtype) for level in levels],
+        "names": list(axis.names),
+    }
+
+
+def _axis_from_json(d: Mapping[str, Any]) -> pd.Index:
+    if "range" in d:
+        return pd.RangeIndex(*d["range"], name=d["names"][0])
+    arrays = [
+        pd.Index([_uncell(v) for v in values], dtype=dtype)
+        for values, dtype in zip(d["levels"], d["dtypes"], strict=True)
+    ]
+    if len(arrays) > 1:
+        return pd.MultiIndex.from_arrays(arrays, names=d["names"])
+    return arrays[0].rename(d["names"][0])
+
+
+def frame_to_json(frame: pd.DataFrame) -> dict[str, Any]:
+    """``frame`` as JSON-ready lists: its index and columns (each level's values, dtype and
+    name), the values row by row and each column's dtype.  Raises a TypeError for what
+    :func:`frame_from_json` cannot restore (a column of another dtype than numbers,
+    booleans and strings, or a cell holding a container)."""
+    for col, dtype in frame.dtypes.items():
+        if dtype.kind not in "fiubO" and not isinstance(dtype, pd.StringDtype):
+            raise TypeError(f"column {col!r} has dtype {dtype}: not kept in a page record")
+    return {
+        "index": _axis_to_json(frame.index),
+        "columns": _axis_to_json(frame.columns),
+        "data": [[_cell(v) for v in row] for row in frame.itertuples(index=False, name=None)],
+        "dtypes": [str(d) for d in frame.dtypes],
+    }
+
+
+def frame_from_json(d: Mapping[str, Any]) -> pd.DataFrame:
+    """The DataFrame :func:`frame_to_json` wrote (equal to the original, dtypes and all)."""
+    data = [[_uncell(v) for v in row] for row in d["data"]]
+    index, columns = _axis_from_json(d["index"]), _axis_from_json(d["columns"])
+    frame = pd.DataFrame(data, index=index, columns=columns, dtype=object)
+    if not data:
+        frame = pd.DataFrame(index=index, columns=columns, dtype=object)
+    for j, dtype in enumerate(d["dtypes"]):
+        frame.isetitem(j, frame.iloc[:, j].astype(dtype))
+    return frame
+
+
+def read_or_compute_frames(
+    kind: str,
+    params: Mapping[str, Any],
+    make: Callable[[], Mapping[str, Any]],
+    store: Store | str | None = None,
+    *,
+    compute: bool = False,
+    on_stale: str = "recompute",
+) -> dict[str, Any]:
+    """:func:`read_or_compute` of a record of named tables: ``make()`` returns a mapping of
+    names to DataFrames or JSON-ready values; the same mapping comes back, the frames as
+    they were made.  The record is keyed by ``params`` and :data:`FRAME_FORMAT`."""
+    params = {**params, "frame_format": FRAME_FORMAT}
+
+    def encoded() -> dict[str, Any]:
+        out = {}
+        for name, value in make().items():
+            is_frame = isinstance(value, pd.DataFrame)
+            out[name] = {"frame": frame_to_json(value)} if is_frame else {"value": value}
+        return out
+
+    rec = read_or_compute(kind, params, encoded, store, compute=compute, on_stale=on_stale)
+    return {
+        name: frame_from_json(v["frame"]) if "frame" in v else v["value"] for name, v in rec.items()
+    }
 
 
 def read_or_compute(
