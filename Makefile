@@ -141,6 +141,7 @@ bench: $(VENV)/.bench-installed
 	OPENBLAS_NUM_THREADS=1 $(PY) benchmarks/bench_contact.py
 	$(PY) benchmarks/bench_targets.py --make-data
 	$(PY) benchmarks/bench_today.py
+	$(PY) benchmarks/bench_compile.py
 	$(PY) benchmarks/plectoneme_matched.py --print
 	$(PY) benchmarks/bench_pyelastica.py
 

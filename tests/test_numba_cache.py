@@ -72,3 +72,44 @@ def test_named_reads_compiled_types_from_annotations():
     assert t.types[3].types == (numba.float64, numba.int64)
     with pytest.raises(TypeError, match=r"_Bad\.x: annotation .* has no compiled type"):
         named(_Bad)
+
+
+class _Event:
+    """A stand-in for numba's ``numba:compile`` event of a dispatcher of ``func``."""
+
+    def __init__(self, func):
+        self.data = {"dispatcher": type("D", (), {"py_func": staticmethod(func)})()}
+
+
+def _foreign(x):
+    return x
+
+
+def test_the_package_s_kernels_compile_at_their_level_and_others_at_numba_s(monkeypatch):
+    from numba.np import arrayobj
+
+    monkeypatch.delenv("NUMBA_OPT", raising=False)
+    listener, before = _numba._KernelCompilation(), numba.config.OPT
+    ours = _Event(march.march.py_func)
+    template = _numba._shape_error_template()
+    assert template is not None  # numba still has the overload this swaps
+    listener.on_start(_Event(_foreign))
+    assert numba.config.OPT == before and listener.depth == 0
+    listener.on_start(ours)
+    listener.on_start(_Event(_foreign))  # a callee compiled inside one of ours
+    assert numba.config.OPT == _numba.KERNEL_OPT
+    assert template._overload_func is arrayobj.ol_raise_with_shape_context_generic
+    listener.on_end(None)
+    assert numba.config.OPT == _numba.KERNEL_OPT
+    listener.on_end(None)
+    assert numba.config.OPT == before and type(numba.config.OPT) is type(before)
+    assert template._overload_func is arrayobj.ol_raise_with_shape_context_cpu
+
+
+def test_numba_opt_in_the_environment_wins(monkeypatch):
+    monkeypatch.setenv("NUMBA_OPT", "3")
+    listener, before = _numba._KernelCompilation(), numba.config.OPT
+    listener.on_start(_Event(march.march.py_func))
+    assert numba.config.OPT == before
+    listener.on_end(None)
+    assert numba.config.OPT == before

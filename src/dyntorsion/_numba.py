@@ -178,7 +178,7 @@ def jit(func=None, signature=None, **overrides):
 
 
 #: rough time a cold cache costs the first run that compiles the engine's kernels (2 cores)
-COLD_COMPILE_SECONDS = 40
+COLD_COMPILE_SECONDS = 25
 
 
 class _ColdCacheNotice(event.Listener):
@@ -215,6 +215,83 @@ def announce_cold_cache() -> None:
 
 
 event.register("numba:compile", _ColdCacheNotice())
+
+#: numba's optimisation level for the package's kernels (numba's own default is 3).  At 1
+#: the engine compiles in about three quarters of the time, runs as fast and computes the
+#: same numbers bit for bit: without fast-math no level may reorder a floating-point
+#: operation (the Benchmarks page has the measurements).  ``NUMBA_OPT`` in the environment
+#: overrides it.
+KERNEL_OPT = 1
+
+
+def _ours(ev) -> bool:
+    """Whether a ``numba:compile`` event compiles one of the package's kernels."""
+    py_func = getattr(ev.data.get("dispatcher"), "py_func", None)
+    path = getattr(getattr(py_func, "__code__", None), "co_filename", "")
+    try:
+        Path(path).resolve().relative_to(PACKAGE_DIR)
+    except (ValueError, OSError):
+        return False
+    return True
+
+
+def _shape_error_template():
+    """numba's CPU overload that formats the message of a slice assignment whose shapes
+    differ, or None where numba has none."""
+    from numba.core.registry import cpu_target
+    from numba.np import arrayobj
+
+    try:
+        cpu_target.typing_context.refresh()  # load numba's registrations, as a compile does
+        fnty = cpu_target.typing_context.resolve_value_type(arrayobj.raise_with_shape_context)
+    except Exception:  # noqa: BLE001 - another numba: keep its own message
+        return None
+    for template in getattr(fnty, "templates", ()):
+        if getattr(template, "_overload_func", None) is arrayobj.ol_raise_with_shape_context_cpu:
+            return template
+    return None
+
+
+class _KernelCompilation(event.Listener):
+    """How the package's kernels, and what they call, compile: at :data:`KERNEL_OPT`, and
+    with numba's generic message for a slice assignment whose shapes differ ("cannot
+    assign slice from input of different size") in place of its CPU message, whose string
+    formatting costs about 5 s of a first run's compilation.  numba reads ``config.OPT``
+    as it optimises each library, so both are set for the outermost compilation of one of
+    ours (under numba's compiler lock) and restored after it; other code compiles as numba
+    would (a slice assignment compiled before ours in the same process and with the same
+    ranks may keep the generic message)."""
+
+    def __init__(self) -> None:
+        self.depth, self.saved, self.template = 0, None, None
+
+    def on_start(self, ev):
+        if self.depth == 0 and not _ours(ev):
+            return
+        if self.depth == 0:
+            from numba.np import arrayobj
+
+            self.saved = numba.config.OPT
+            if "NUMBA_OPT" not in os.environ:
+                numba.config.OPT = type(self.saved)(KERNEL_OPT)
+            self.template = _shape_error_template()
+            if self.template is not None:
+                self.template._overload_func = arrayobj.ol_raise_with_shape_context_generic
+        self.depth += 1
+
+    def on_end(self, ev):
+        if self.depth == 0:
+            return
+        self.depth -= 1
+        if self.depth == 0:
+            from numba.np import arrayobj
+
+            numba.config.OPT = self.saved
+            if self.template is not None:
+                self.template._overload_func = arrayobj.ol_raise_with_shape_context_cpu
+
+
+event.register("numba:compile", _KernelCompilation())
 
 
 def kernel_modules(root: Path = PACKAGE_DIR) -> list[str]:
