@@ -90,7 +90,7 @@ quick = sys.argv[2] == "1"
 from dyntorsion import buckling as b
 from dyntorsion.buckling import scene as S
 from dyntorsion.studies import presets as P
-from dyntorsion.beyond.linear_stability import LateralModel
+from dyntorsion.beyond.linear_stability import LateralModel, PassageSteps
 
 def median(f, n):
     out = []
@@ -256,7 +256,7 @@ if estimate is not None:
 else:
     res["estimate_ms"] = float("nan")
 model = LateralModel()
-model.passage(1.6, 10.0, 1e-8, waves=False, t_end=0.1)
+model.passage(1.6, 10.0, 1e-8, waves=False, steps=PassageSteps(t_end=0.1))
 res["linear_waves_s"] = median(lambda: model.passage(1.6, 10.0, 1e-8, waves=True), 1 if quick else 3)
 res["linear_ramp_s"] = median(lambda: model.passage(1.6, 10.0, 1e-8, waves=False), 3)
 res["sim_fig10_a1.6_s"] = median(

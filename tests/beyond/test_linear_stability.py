@@ -65,10 +65,10 @@ def test_matrices_have_the_structure_of_a_gyroscopic_system():
     """Uniform twist: K Hermitian; spin: G skew-Hermitian; M symmetric positive definite."""
     model = LS.LateralModel(ROD, modes=12)
     K = model.stiffness(15.0)
-    G = model.gyroscopic(-3.0 * (ROD.L - model._s))
+    G = model.gyroscopic(-3.0 * (ROD.L - model.nodes))
     assert np.abs(K - K.conj().T).max() < 1e-12 * np.abs(K).max()
     assert np.abs(G + G.conj().T).max() < 1e-12 * np.abs(G).max()
-    assert np.all(np.linalg.eigvalsh(model._M) > 0)
+    assert np.all(np.linalg.eigvalsh(model.mass_matrix) > 0)
 
 
 def test_growth_rate_is_zero_below_and_a_square_root_just_above_kappa_cri():
@@ -184,9 +184,9 @@ def _reference_passage(model, a, seed, *, waves, spin, terms, dt, t_stop):
     the series into fixed matrices), classical Runge-Kutta with the same steps."""
     base = LS.Prebuckling(ROD, a, 10.0, waves=waves, spin=spin, terms=terms)
     rows, points = model.seed_rows(seed)
-    at_nodes, at_seed = base.at(model._s), base.at(points)
+    at_nodes, at_seed = base.at(model.nodes), base.at(points)
     m = model.modes
-    Minv = np.linalg.inv(model._M)
+    Minv = np.linalg.inv(model.mass_matrix)
 
     def rhs(t, y):
         kappa, omega, omega_t, _ = at_nodes(t)
@@ -204,7 +204,7 @@ def _reference_passage(model, a, seed, *, waves, spin, terms, dt, t_stop):
         k3 = rhs(t + dt / 2, y + dt / 2 * k2)
         k4 = rhs(t + dt, y + dt * k3)
         y = y + dt / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
-    return -np.real(np.conj(y[:m]) @ (model._P @ y[m:]))
+    return -np.real(np.conj(y[:m]) @ (model.u3_matrix @ y[m:]))
 
 
 @pytest.mark.parametrize(
@@ -220,8 +220,9 @@ def test_compiled_passage_matches_the_plain_route(fast_model, waves, spin, seed)
     the u3(L) trace of the plain NumPy evaluation of (L2) to round-off."""
     a, dt, t_stop = 12.8, 2e-3, 2.0
     p = fast_model.passage(
-        a, 10.0, seed, waves=waves, spin=spin, terms=4, dt=dt, t_end=t_stop, samples=1
-    )
+        a, 10.0, seed, waves=waves, spin=spin, terms=4,
+        steps=LS.PassageSteps(dt=dt, t_end=t_stop, samples=1),
+    )  # fmt: skip
     assert not p.reached and p.t[-1] == pytest.approx(t_stop)
     ref = _reference_passage(
         fast_model, a, seed, waves=waves, spin=spin, terms=4, dt=dt, t_stop=t_stop
@@ -233,7 +234,7 @@ def test_compiled_passage_matches_the_plain_route(fast_model, waves, spin, seed)
 def test_passage_converges_at_fourth_order_in_dt(fast_model):
     """Runge-Kutta 4: the crossing time for dt, dt/2, dt/4 converges with observed order ~4."""
     t = [
-        fast_model.passage(12.8, 10.0, 1e-8, waves=False, dt=dt).t_ref
+        fast_model.passage(12.8, 10.0, 1e-8, waves=False, steps=LS.PassageSteps(dt=dt)).t_ref
         for dt in (0.01, 0.005, 0.0025)
     ]
     order = math.log2(abs(t[0] - t[1]) / abs(t[1] - t[2]))
@@ -242,8 +243,10 @@ def test_passage_converges_at_fourth_order_in_dt(fast_model):
 
 def test_passage_is_linear_in_the_seed(fast_model):
     """u3 is quadratic in the lateral motion: seed x 10 reaches u_ref x 100 at the same time."""
-    p1 = fast_model.passage(12.8, 10.0, 1e-8, waves=False, dt=0.005)
-    p2 = fast_model.passage(12.8, 10.0, 1e-7, waves=False, dt=0.005, u_ref=100 * p1.u_ref)
+    p1 = fast_model.passage(12.8, 10.0, 1e-8, waves=False, steps=LS.PassageSteps(dt=0.005))
+    p2 = fast_model.passage(
+        12.8, 10.0, 1e-7, waves=False, steps=LS.PassageSteps(dt=0.005, u_ref=100 * p1.u_ref)
+    )
     assert p2.t_ref == pytest.approx(p1.t_ref, rel=1e-9)
     assert np.allclose(p2.u3, 100 * p1.u3, rtol=1e-9, atol=0)
 
@@ -274,9 +277,9 @@ def test_point_seed_and_bad_input(fast_model):
     with pytest.raises(ValueError, match="a=-1"):
         fast_model.passage(-1.0)
     with pytest.raises(ValueError, match="u_ref"):
-        fast_model.passage(1.0, u_ref=0.0)
+        fast_model.passage(1.0, steps=LS.PassageSteps(u_ref=0.0))
     with pytest.raises(ValueError, match="dt"):
-        fast_model.passage(1.0, dt=-1.0)
+        fast_model.passage(1.0, steps=LS.PassageSteps(dt=-1.0))
     with pytest.raises(ValueError, match="modes"):
         LS.LateralModel(ROD, modes=0)
     with pytest.raises(ValueError, match="quadrature"):
@@ -286,7 +289,7 @@ def test_point_seed_and_bad_input(fast_model):
 
 
 def test_unreached_threshold_gives_nan(fast_model):
-    p = fast_model.passage(1.0, 10.0, 1e-8, waves=False, t_end=1.0)
+    p = fast_model.passage(1.0, 10.0, 1e-8, waves=False, steps=LS.PassageSteps(t_end=1.0))
     assert not p.reached and math.isnan(p.kappa3_ref)
 
 

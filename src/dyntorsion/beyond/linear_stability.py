@@ -52,6 +52,7 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from functools import lru_cache
+from typing import NamedTuple
 
 import numpy as np
 import scipy.linalg
@@ -64,7 +65,7 @@ from ..model.rod import Rod
 from . import passage as passage_kernel
 from .passage import Passage
 
-__all__ = ["Prebuckling", "LateralModel", "Passage", "wkb_exponents"]
+__all__ = ["Prebuckling", "LateralModel", "PassageSteps", "Passage", "wkb_exponents"]
 
 
 def _beta(j: int) -> float:
@@ -141,7 +142,8 @@ class Prebuckling:
             raise ValueError(f"terms={self.terms!r} must be an integer >= 1")
 
     @property
-    def _k(self) -> np.ndarray:
+    def wave_numbers(self) -> np.ndarray:
+        """k_n = (2n - 1) pi / (2 L), n = 1..terms: the torsional modes kept [1/m]."""
         return (2 * np.arange(1, self.terms + 1) - 1) * np.pi / (2 * self.rod.L)
 
     def __call__(self, s: np.ndarray, t: float) -> tuple[np.ndarray, ...]:
@@ -154,7 +156,7 @@ class Prebuckling:
         L, a, c, kappa0 = self.rod.L, self.a, self.rod.c, self.kappa0
         s = np.asarray(s, dtype=float)
         zero = np.zeros_like(s)
-        k = self._k
+        k = self.wave_numbers
         b = -2 * a / (L * c * k**2)
         if self.waves:
             sin_s, cos_s = np.sin(np.outer(s, k)), np.cos(np.outer(s, k))
@@ -178,6 +180,17 @@ class Prebuckling:
 
 
 # ======================================================================= the lateral model
+class PassageSteps(NamedTuple):
+    """How :meth:`LateralModel.passage` integrates: until ``t_end`` [s], or until
+    ``|u3(L)|`` reaches ``u_ref`` [m/s], in steps ``dt`` [s], keeping ``samples`` levels;
+    None chooses the default (see the method)."""
+
+    t_end: float | None = None
+    u_ref: float | None = None
+    dt: float | None = None
+    samples: int = 2000
+
+
 @dataclass(frozen=True)
 class LateralModel:
     """Eq (L2) of the module docstring: the Galerkin model of (L1).
@@ -220,24 +233,60 @@ class LateralModel:
         r = self.rod
         rhoI = r.rotary_inertia[0] if self.rotary_inertia else 0.0
         object.__setattr__(self, "_rhoJ", r.rotary_inertia[2] if self.gyro else 0.0)
-        M = r.mass_per_length * self._int(self._phi, self._phi)
-        M = M + rhoI * self._int(self._dphi, self._dphi)
+        M = r.mass_per_length * self.integral(self._phi, self._phi)
+        M = M + rhoI * self.integral(self._dphi, self._dphi)
         object.__setattr__(self, "_M", M)
-        object.__setattr__(self, "_Kb", r.B1 * self._int(self._ddphi, self._ddphi))
-        object.__setattr__(self, "_P", self._int(self._dphi, self._dphi))
+        object.__setattr__(self, "_Kb", r.B1 * self.integral(self._ddphi, self._ddphi))
+        object.__setattr__(self, "_P", self.integral(self._dphi, self._dphi))
 
-    def _int(self, f, g, weight=None) -> np.ndarray:
-        """int f_i g_j (times weight) ds over the rod, as a matrix."""
+    def integral(self, f, g, weight=None) -> np.ndarray:
+        """int f_i g_j (times ``weight``) ds over the rod, as a matrix (m, m): ``f``, ``g``
+        (and ``weight``) at the quadrature points :attr:`nodes`, one column per mode."""
         w = self._w if weight is None else self._w * weight
         return f.T @ (w[:, None] * g)
+
+    @property
+    def nodes(self) -> np.ndarray:
+        """The quadrature points s [m] at which the modes are tabulated."""
+        return self._s
+
+    @property
+    def slopes(self) -> np.ndarray:
+        """phi_i'(s) at :attr:`nodes` (points, m) [1/m^1.5]."""
+        return self._dphi
+
+    @property
+    def curvatures(self) -> np.ndarray:
+        """phi_i''(s) at :attr:`nodes` (points, m) [1/m^2.5]."""
+        return self._ddphi
+
+    @property
+    def mass_matrix(self) -> np.ndarray:
+        """Mr = rho A int phi phi + rho I int phi' phi' (m, m) of (L2)."""
+        return self._M
+
+    @property
+    def bending_stiffness(self) -> np.ndarray:
+        """Kb = B int phi'' phi'' (m, m) of (L2)."""
+        return self._Kb
+
+    @property
+    def u3_matrix(self) -> np.ndarray:
+        """P = int phi' phi' (m, m): u3(L) = -Re(q* P q_t)."""
+        return self._P
+
+    @property
+    def spin_inertia(self) -> float:
+        """rho J of the spin terms (0 with ``gyro=False``) [kg m]."""
+        return self._rhoJ
 
     # -------------------------------------------------------------- frozen coefficients
     def stiffness(self, kappa3, omega3_t=0.0) -> np.ndarray:
         """Kb + K_M + K_w (complex, m x m) for a twist kappa3 (scalar or at the nodes)."""
         M = self.rod.C * np.broadcast_to(np.asarray(kappa3, dtype=float), self._s.shape)
-        K = self._Kb - 1j * self._int(self._ddphi, self._dphi, M)
+        K = self._Kb - 1j * self.integral(self._ddphi, self._dphi, M)
         if self._rhoJ and np.any(omega3_t):
-            K = K - 1j * self._rhoJ * self._int(
+            K = K - 1j * self._rhoJ * self.integral(
                 self._dphi, self._dphi, np.broadcast_to(omega3_t, self._s.shape)
             )
         return K
@@ -249,7 +298,7 @@ class LateralModel:
         return (
             -1j
             * self._rhoJ
-            * self._int(self._dphi, self._dphi, np.broadcast_to(omega3, self._s.shape))
+            * self.integral(self._dphi, self._dphi, np.broadcast_to(omega3, self._s.shape))
         )
 
     def spectrum(self, kappa3: float, spin_rate: float = 0.0) -> np.ndarray:
@@ -350,23 +399,22 @@ class LateralModel:
         waves: bool = True,
         spin: bool = True,
         terms: int = 8,
-        t_end: float | None = None,
-        u_ref: float | None = None,
-        dt: float | None = None,
-        samples: int = 2000,
+        steps: PassageSteps | None = None,
     ) -> Passage:
         """Integrate (L2) from rest through the instability until ``|u3(L)| = u_ref``.
 
-        Classical Runge-Kutta (order 4) with the fixed step ``dt``; the default is
+        Classical Runge-Kutta (order 4) with the fixed step ``steps.dt``; the default is
         0.5 / omega_max, omega_max the largest frequency of (L2) at the twist reached
         at ``t_end``, and with ``waves`` also 1 / omega_T, omega_T = (2 terms - 1) pi c
         / (2 L) the fastest of the ``terms`` torsional modes kept in the prebuckling
-        state (:class:`Prebuckling`).  ``u_ref`` defaults to the onset detector's
-        L / T0.  ``t_end`` defaults to the time at which the ramp passes kappa_cri
+        state (:class:`Prebuckling`).  ``steps.u_ref`` defaults to the onset detector's
+        L / T0.  ``steps.t_end`` defaults to the time at which the ramp passes kappa_cri
         plus 4 T0 (T0 = L^2 sqrt(rho A / B1)).  The crossing time ``t_ref`` is
         found on the cubic Hermite interpolant of u3 over the step (order 4, like the
-        steps); it is nan if u_ref is not reached.
+        steps); it is nan if u_ref is not reached.  ``steps``: :class:`PassageSteps`
+        (default: every field chosen as above, 2000 samples kept).
         """
+        t_end, u_ref, dt, samples = steps or PassageSteps()
         if not isinstance(seed, Perturbation):
             seed = Perturbation(magnitude=float(seed))
         base = Prebuckling(self.rod, a, kappa0, waves=waves, spin=spin, terms=terms)

@@ -80,20 +80,20 @@ class Tensors(NamedTuple):
 
 def tensors(model, base, seed_rows, seed_points, spin: bool) -> Tensors:
     """:class:`Tensors` of ``model`` (a LateralModel) about ``base`` (a Prebuckling)."""
-    r, s = model.rod, model._s
-    k = base._k
+    r, s = model.rod, model.nodes
+    k = base.wave_numbers
     b = -2 * base.a / (r.L * r.c * k**2) if base.waves else np.zeros_like(k)
     sin_s, cos_s = np.sin(np.outer(s, k)), np.cos(np.outer(s, k))
-    rhoJ = model._rhoJ if spin else 0.0
-    ddphi, dphi = model._ddphi, model._dphi
+    rhoJ = model.spin_inertia if spin else 0.0
+    ddphi, dphi = model.curvatures, model.slopes
     return Tensors(
-        Minv=np.linalg.inv(model._M),
-        Kb=model._Kb.astype(complex),
-        K1=-1j * r.C * model._int(ddphi, dphi),
-        Kn=np.array([-1j * r.C * model._int(ddphi, dphi, sin_s[:, n]) for n in range(k.size)]),
-        G1=-1j * rhoJ * model._int(dphi, dphi, -(r.L - s)),
-        Gn=np.array([-1j * rhoJ * model._int(dphi, dphi, cos_s[:, n]) for n in range(k.size)]),
-        P=model._P,
+        Minv=np.linalg.inv(model.mass_matrix),
+        Kb=model.bending_stiffness.astype(complex),
+        K1=-1j * r.C * model.integral(ddphi, dphi),
+        Kn=np.array([-1j * r.C * model.integral(ddphi, dphi, sin_s[:, n]) for n in range(k.size)]),
+        G1=-1j * rhoJ * model.integral(dphi, dphi, -(r.L - s)),
+        Gn=np.array([-1j * rhoJ * model.integral(dphi, dphi, cos_s[:, n]) for n in range(k.size)]),
+        P=model.u3_matrix,
         rows=np.ascontiguousarray(seed_rows, dtype=complex),
         cos_seed=np.cos(np.outer(seed_points, k)),
         lever=r.L - np.asarray(seed_points, dtype=float),
@@ -231,7 +231,7 @@ def march(T, dt, n_steps, every, u_ref, ts, ys, last):
 def _crossing(model, T, t, dt, last, u_ref) -> float:
     """The time u3(L) reaches u_ref on the cubic Hermite interpolant of u3 over the last
     step [t, t + dt] (order 4, like the steps), from y and dy/dt at both ends."""
-    m, P = model.modes, model._P
+    m, P = model.modes, model.u3_matrix
 
     def u3_rate(y, f):
         q, v, acc = y[:m], y[m:], f[m:]
@@ -277,7 +277,7 @@ def run(model, base, seed, dt: float, n_steps: int, samples: int, u_ref: float) 
         u3=np.array([u3(T, ys[:, i]) for i in range(ts.size)]),
         kappa3=base.kappa0 + base.a * ts,
         amplitude=np.sqrt(
-            np.real(np.sum(np.conj(ys[:m]) * (model._M @ ys[:m]), axis=0))
+            np.real(np.sum(np.conj(ys[:m]) * (model.mass_matrix @ ys[:m]), axis=0))
             / (r.mass_per_length * r.L)
         ),
         t_ref=t_ref,

@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 
-from ..beyond.linear_stability import LateralModel
+from ..beyond.linear_stability import LateralModel, PassageSteps
 from ..buckling.onset import reference_level
 from ..buckling.scene import Scene, simulate_scene
 from ..store.location import default_store
@@ -40,7 +40,7 @@ def compare(scene: Scene, modes: int = 16, samples: int = 1200) -> dict[str, Any
     rod = scene.rod
     u_ref = reference_level(rod)
     lin = LateralModel(rod, modes=modes).passage(
-        scene.a, scene.kappa0, scene.seed, u_ref=30 * u_ref
+        scene.a, scene.kappa0, scene.seed, steps=PassageSteps(u_ref=30 * u_ref)
     )
     t_stop = 1.1 * lin.t_ref + 1.0
     run = simulate_scene(replace(scene, t_end=t_stop))
