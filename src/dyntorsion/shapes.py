@@ -30,6 +30,10 @@ __all__ = [
     "shape",
     "FrameTracker",
     "self_contact",
+    "crossing",
+    "shape_kernel",
+    "self_contact_kernel",
+    "crossing_kernel",
 ]
 
 
@@ -121,7 +125,7 @@ def _centreline(R, ds, r):
 
 
 @jit
-def _shape(k, ds, R0, R, r):
+def shape_kernel(k, ds, R0, R, r):
     """Frames R and centreline r (r[0] = 0) of the curvatures k, from the frame R0."""
     R[0] = R0
     _frames(k, ds, R)
@@ -151,7 +155,7 @@ def shape(y: np.ndarray, ds: float, theta0: float = 0.0, k_index: int = 6) -> np
     origin with its frame turned by theta0 about e3."""
     k = np.ascontiguousarray(np.asarray(y, dtype=float)[:, k_index : k_index + 3])
     R, r = np.empty((k.shape[0], 3, 3)), np.empty((k.shape[0], 3))
-    _shape(k, float(ds), left_end_frame(theta0), R, r)
+    shape_kernel(k, float(ds), left_end_frame(theta0), R, r)
     return r
 
 
@@ -232,7 +236,7 @@ def _candidate(arc, r, seg, i, j, diameter, min_arc, reach):
 
 
 @jit
-def _self_contact(r, diameter, min_arc):
+def self_contact_kernel(r, diameter, min_arc):
     """(distance, i, j) of the closest candidate pair, i = -1 when there is none."""
     seg, arc = _segments(r)
     n = seg.size
@@ -269,7 +273,7 @@ def _crossed(r, i, j, seg):
 
 
 @jit
-def _crossing(r0, r1, diameter, min_arc):
+def crossing_kernel(r0, r1, diameter, min_arc):
     """(i, j) of the first pair that passed through each other, (-1, -1) for none."""
     seg0, arc0 = _segments(r0)
     seg1, _ = _segments(r1)
@@ -296,7 +300,7 @@ def self_contact(r: np.ndarray, diameter: float, min_arc: float | None = None):
     """(distance, i, j) of the closest pair of segments i, j of the centreline r whose
     arc-length separation exceeds ``min_arc`` (default 2 diameters, and never
     adjacent segments), or None when no pair comes within ``diameter``."""
-    d, i, j = _self_contact(_points(r), float(diameter), _min_arc(diameter, min_arc))
+    d, i, j = self_contact_kernel(_points(r), float(diameter), _min_arc(diameter, min_arc))
     return (float(d), int(i), int(j)) if i >= 0 and d < diameter else None
 
 
@@ -311,5 +315,5 @@ def crossing(r_old: np.ndarray, r_new: np.ndarray, diameter: float, min_arc: flo
     those lines are closer than a segment length -- and the signed distance of the
     lines along d_i x d_j changes sign.  Every quantity is taken within one state, so a
     rigid motion of the whole rod between the states does not matter."""
-    i, j = _crossing(_points(r_old), _points(r_new), float(diameter), _min_arc(diameter, min_arc))
+    i, j = crossing_kernel(_points(r_old), _points(r_new), float(diameter), _min_arc(diameter, min_arc))
     return None if i < 0 else (int(i), int(j))

@@ -53,14 +53,14 @@ def scene_test(y, watch):
             previous = work[12 * n1 : 15 * n1].reshape((n1, 3))
             frame0 = work[15 * n1 : 15 * n1 + 9].reshape((3, 3))
             k = ix[_K1]  # k1, k2, k3 side by side
-            shapes._shape(y[:, k : k + 3], p[_DS], frame0, R, r)
-            d, i, j = shapes._self_contact(r, p[_DIAMETER], p[_MIN_ARC])
+            shapes.shape_kernel(y[:, k : k + 3], p[_DS], frame0, R, r)
+            d, i, j = shapes.self_contact_kernel(r, p[_DIAMETER], p[_MIN_ARC])
             if i >= 0 and d < p[_DIAMETER]:
                 st[_CODE], st[_DISTANCE], st[_I], st[_J] = _TOUCH, d, i, j
                 return True
             ci, cj = -1, -1
             if st[_HAS_PREVIOUS] != 0.0:
-                ci, cj = shapes._crossing(previous, r, p[_DIAMETER], p[_MIN_ARC])
+                ci, cj = shapes.crossing_kernel(previous, r, p[_DIAMETER], p[_MIN_ARC])
             if p[_EVERY_LEVEL] != 0.0:
                 previous[:] = r
                 st[_HAS_PREVIOUS] = 1.0

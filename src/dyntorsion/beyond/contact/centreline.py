@@ -84,7 +84,7 @@ class Reconstruction:
 
     def _rebuild(self, y: np.ndarray) -> None:
         k = np.ascontiguousarray(y[:, self.k : self.k + 3])
-        shapes._shape(k, self.ds, shapes.left_end_frame(self.theta_left), self.R, self.r)
+        shapes.shape_kernel(k, self.ds, shapes.left_end_frame(self.theta_left), self.R, self.r)
 
     def update(self, y: np.ndarray, dt: float) -> None:
         """Advance to the level y, a step dt after the previous one."""
