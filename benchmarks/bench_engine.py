@@ -81,12 +81,14 @@ def main() -> None:
         f[:, 0] = 1e-8
         steps = 400
         run = ga.integrate(
-            system,
+            ga.Problem(
+                system,
+                y,
+                left,
+                right,
+                sources=ga.Sources(separable=(model.external_force(f), None)),
+            ),
             ga.Grid(n_cells=n, length=1.0, dt=dt, t_end=steps * dt),
-            y0=y,
-            left=left,
-            right=right,
-            sources=ga.Sources(separable=(model.external_force(f), None)),
             output=ga.Output(record={"u3": ("u3", -1)}),
         )
         t_step = run.wall_time / run.steps

@@ -315,5 +315,7 @@ def crossing(r_old: np.ndarray, r_new: np.ndarray, diameter: float, min_arc: flo
     those lines are closer than a segment length -- and the signed distance of the
     lines along d_i x d_j changes sign.  Every quantity is taken within one state, so a
     rigid motion of the whole rod between the states does not matter."""
-    i, j = crossing_kernel(_points(r_old), _points(r_new), float(diameter), _min_arc(diameter, min_arc))
+    i, j = crossing_kernel(
+        _points(r_old), _points(r_new), float(diameter), _min_arc(diameter, min_arc)
+    )
     return None if i < 0 else (int(i), int(j))

@@ -9,6 +9,7 @@ tests pin rates, not only values).
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -96,22 +97,19 @@ class Manufactured:
         right = ga.Boundary.fields(
             system, RIGHT_FIELDS, lambda t: np.array([self.y([L], ti)[0][ri] for ti in t])
         )
-        y0 = self.y(s, 0.0)
-        if project:
-            y0 = ga.consistent_initial_state(
-                system, y0, length=L, left=left, right=right, scheme=scheme, q0=self.source(s, 0.0)
-            )
-        return ga.integrate(
+        problem = ga.Problem(
             system,
-            ga.Grid(n_cells, L, dt, t_end),
-            y0=y0,
-            y_t0=self.y_t(s, 0.0),
-            left=left,
-            right=right,
-            scheme=scheme,
-            newton=newton,
+            self.y(s, 0.0),
+            left,
+            right,
             sources=ga.Sources(field=self.source),
+            y_t0=self.y_t(s, 0.0),
         )
+        grid = ga.Grid(n_cells, L, dt, t_end)
+        if project:
+            projected = ga.consistent_initial_state(problem, grid, scheme=scheme)
+            problem = dataclasses.replace(problem, y0=projected)
+        return ga.integrate(problem, grid, scheme=scheme, newton=newton)
 
     def error(self, run: ga.Run) -> float:
         """Max over nodes and fields of |y - y*| / yscale at the final time."""

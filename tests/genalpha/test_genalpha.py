@@ -112,12 +112,10 @@ def test_second_order_in_time_wave_exact(lam_t):
     err = []
     for dt in dts:
         run = ga.integrate(
-            system,
+            ga.Problem(
+                system, exact(s, 0.0), left, right, y_t0=(exact(s, 1e-7) - exact(s, -1e-7)) / 2e-7
+            ),
             ga.Grid(n_cells=n, length=1.0, dt=dt, t_end=T),
-            y0=exact(s, 0.0),
-            y_t0=(exact(s, 1e-7) - exact(s, -1e-7)) / 2e-7,
-            left=left,
-            right=right,
             scheme=ga.Scheme(-1.0, lam_t),
         )
         err.append(np.max(np.abs(run.y - exact(s, T)) / model.scales()[0]))
@@ -140,11 +138,10 @@ def _pulse_run(lam_t, courant, steps, n=60):
     dt = courant * (1.0 / n) / model.rod.c
     every = steps // 10
     run = ga.integrate(
-        system,
+        ga.Problem(
+            system, y0, ga.Boundary.fields(system, ["w3"]), ga.Boundary.fields(system, ["w3"])
+        ),
         ga.Grid(n_cells=n, length=1.0, dt=dt, t_end=steps * dt),
-        y0=y0,
-        left=ga.Boundary.fields(system, ["w3"]),
-        right=ga.Boundary.fields(system, ["w3"]),
         scheme=ga.Scheme(-1.0, lam_t),
         output=ga.Output(snapshots=list(dt * np.arange(0, steps + 1, every))),
     )
@@ -184,20 +181,14 @@ def test_spatial_damping_is_unstable():
     dt = 0.1 / n / model.rod.c
     with pytest.raises(ga.ConvergenceError, match="t="):
         ga.integrate(
-            system,
+            ga.Problem(system, y0, bc, bc),
             ga.Grid(n_cells=n, length=1.0, dt=dt, t_end=100 * dt),
-            y0=y0,
-            left=bc,
-            right=bc,
             scheme=scheme,
         )
     dt = 100.0 / n / model.rod.c
     run = ga.integrate(
-        system,
+        ga.Problem(system, y0, bc, bc),
         ga.Grid(n_cells=n, length=1.0, dt=dt, t_end=2000 * dt),
-        y0=y0,
-        left=bc,
-        right=bc,
         scheme=scheme,
         output=ga.Output(snapshots=[0.0, 2000 * dt]),
     )
@@ -222,14 +213,12 @@ def _buckling_like(quadrature, n=16, dt=2e-3, t_end=0.3, scheme=None, newton=Non
     f[:, 0] = 1e-4
     times = list(np.arange(0, t_end + 1e-12, 0.05))
     run = ga.integrate(
-        system,
+        ga.Problem(
+            system, y0, left, right, sources=ga.Sources(separable=(model.external_force(f), None))
+        ),
         ga.Grid(n, 1.0, dt, t_end),
-        y0=y0,
-        left=left,
-        right=right,
         scheme=scheme or ga.Scheme(quadrature=quadrature),
         newton=newton or ga.Newton(tol=1e-12),
-        sources=ga.Sources(separable=(model.external_force(f), None)),
         output=ga.Output(snapshots=times),
         stops=stops or ga.Stops(),
     )
@@ -306,8 +295,8 @@ def _tiny_problem():
     )
 
 
-def _integrate(system, grid, **kw):
-    return ga.integrate(system, ga.Grid(**grid), **kw)
+def _integrate(system, grid, y0, left, right):
+    return ga.integrate(ga.Problem(system, y0, left, right), ga.Grid(**grid))
 
 
 @pytest.mark.parametrize(
@@ -395,11 +384,8 @@ def test_max_iter_failure_raises_convergence_error(newton):
     right = ga.Boundary.fields(system, list(EQ30.right))
     with pytest.raises(ga.ConvergenceError) as info:
         ga.integrate(
-            system,
+            ga.Problem(system, y0, left, right),
             ga.Grid(n_cells=n, length=1.0, dt=1e-2, t_end=0.1),
-            y0=y0,
-            left=left,
-            right=right,
             newton=newton,
         )
     e = info.value
@@ -414,19 +400,16 @@ def test_records_snapshots_and_stop():
     n = 20
     y0 = _pulse(n, centre=0.5, width=0.1)
     dt = 1e-4
-    kw = dict(
-        y0=y0,
-        left=ga.Boundary.fields(system, ["w3"]),
-        right=ga.Boundary.fields(system, ["w3"]),
+    problem = ga.Problem(
+        system, y0, ga.Boundary.fields(system, ["w3"]), ga.Boundary.fields(system, ["w3"])
     )
     grid = ga.Grid(n, 1.0, dt, 100 * dt)
-    full = ga.integrate(system, grid, output=ga.Output(record={"k_mid": ("k3", 10)}), **kw)
+    full = ga.integrate(problem, grid, output=ga.Output(record={"k_mid": ("k3", 10)}))
     sparse = ga.integrate(
-        system,
+        problem,
         grid,
         output=ga.Output(record={"k_mid": ("k3", 10)}, every=7, snapshots=[0.0, 50 * dt]),
         stops=ga.Stops(check_every=13),
-        **kw,
     )
     assert full.t.size == 101 and np.allclose(full.t, dt * np.arange(101))
     assert np.allclose(sparse.t, dt * np.r_[0, np.arange(7, 101, 7)])
@@ -434,10 +417,9 @@ def test_records_snapshots_and_stop():
     assert np.array_equal(sparse.y, full.y)  # chunking does not change the numbers
     assert sparse.snapshot(50 * dt)[10, 0] == full["k_mid"][50]
     stopped = ga.integrate(
-        system,
+        problem,
         grid,
         stops=ga.Stops(test=lambda t, y: "half" if t >= 50 * dt else None, check_every=10),
-        **kw,
     )
     assert stopped.stopped == "half" and stopped.steps == 50
 

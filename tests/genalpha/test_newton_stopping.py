@@ -32,12 +32,8 @@ def _bent_step(newton, n=24, dt=0.05, steps=1):
     )
     right = ga.Boundary.fields(system, list(EQ30.right))
     run = ga.integrate(
-        system,
+        ga.Problem(system, y0, left, right, y_t0="zero"),
         ga.Grid(n_cells=n, length=1.0, dt=dt, t_end=steps * dt),
-        y0=y0,
-        left=left,
-        right=right,
-        y_t0="zero",
         newton=newton,
     )
     return model.scales()[0], run

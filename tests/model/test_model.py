@@ -78,11 +78,8 @@ def test_uniform_twist_is_an_exact_discrete_equilibrium():
     left = ga.Boundary.fields(system, list(EQ30.left), [0, 0, 0, 0, 0, kappa0])
     right = ga.Boundary.fields(system, list(EQ30.right))
     run = ga.integrate(
-        system,
+        ga.Problem(system, y0, left, right),
         ga.Grid(n_cells=n, length=1.0, dt=1e-3, t_end=10.0),
-        y0=y0,
-        left=left,
-        right=right,
         output=ga.Output(record={"u3": ("u3", -1)}),
     )
     assert run.steps == 10_000

@@ -197,11 +197,8 @@ def test_twelve_field_model_gives_the_same_wave():
     )
     right = ga.Boundary.fields(system, list(EQ30.right))
     run = ga.integrate(
-        system,
+        ga.Problem(system, np.zeros((n + 1, 12)), left, right),
         ga.Grid(n_cells=n, length=L, dt=dt, t_end=0.01),
-        y0=np.zeros((n + 1, 12)),
-        left=left,
-        right=right,
         output=ga.Output(snapshots=[0.005, 0.01]),
     )
     for i, t in enumerate((0.005, 0.01)):

@@ -12,7 +12,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from ..genalpha import ConvergenceError, Grid, Output, Sources, Stops, integrate
+from ..genalpha import ConvergenceError, Grid, Output, Problem, Sources, Stops, integrate
 from ..genalpha.guard import check_time_grid
 from ..model.cosserat import Cosserat
 from ..model.rod import Rod
@@ -199,14 +199,10 @@ def simulate(
         )  # fmt: skip
     try:
         run = integrate(
-            system,
+            Problem(system, y0, left, right, sources=sources),
             Grid(n_cells, rod.L, dt, t_end),
-            y0=y0,
-            left=left,
-            right=right,
             scheme=scheme,
             newton=newton,
-            sources=sources,
             output=Output(record=RECORDED, snapshots=snapshots, progress=progress),
             stops=Stops(
                 test=stop,

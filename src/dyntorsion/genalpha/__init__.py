@@ -52,7 +52,7 @@ from .discrete import Constants, Work
 from .initial import algebraic_residual, consistent_initial_state, consistent_rates
 from .integrate import integrate, newton_iteration_kernel
 from .newton import ConvergenceError, Newton, Outcome, Status
-from .parts import Grid, Output, Sources, Stops
+from .parts import Grid, Output, Problem, Sources, Stops
 from .run import Run
 from .scheme import (
     QUADRATURES,
@@ -76,6 +76,7 @@ __all__ = [
     "ConvergenceError",
     "Run",
     "integrate",
+    "Problem",
     "Grid",
     "Sources",
     "Output",

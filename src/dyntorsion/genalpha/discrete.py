@@ -102,6 +102,27 @@ CONSTANTS = named(Constants)
 WORK = named(Work)
 
 
+class StepSource(NamedTuple):
+    """The source of eq (7) over one step: q = ``space`` g(t) + field, with g at the old and
+    new levels (``t_old``, ``t_new``) and the field there (``field_old``, ``field_new``,
+    read only with ``use_field``)."""
+
+    space: Matrix
+    t_old: float
+    t_new: float
+    field_old: Matrix
+    field_new: Matrix
+    use_field: bool
+
+
+class EndValues(NamedTuple):
+    """The prescribed values of the boundary rows at the new level: ``left`` (nb_left) at
+    s = 0 and ``right`` (nf - nb_left) at s = L."""
+
+    left: Vector
+    right: Vector
+
+
 class Start(NamedTuple):
     """The level a run starts from: the fields ``y`` and their time derivatives ``rate``,
     each (N+1, nf)."""
@@ -188,8 +209,11 @@ def constants(
 
 
 @jit
-def prepare_step(F, con, w, qs, qt_old, qt_new, qf_old, qf_new, use_qf):
-    """c_j: the part of every cell's residual fixed during the step (old level, source)."""
+def prepare_step(F, con, w, q):
+    """c_j: the part of every cell's residual fixed during the step (old level, source
+    ``q``, a :class:`StepSource`)."""
+    qs, qt_old, qt_new = q.space, q.t_old, q.t_new
+    qf_old, qf_new, use_qf = q.field_old, q.field_new, q.use_field
     co = con.co
     yo, ao, Fo, c, ybo, z = w.y_old, w.rate_old, w.F_old, w.c, w.y_bar_old, w.z
     N = yo.shape[0] - 1
@@ -227,9 +251,11 @@ def prepare_step(F, con, w, qs, qt_old, qt_new, qf_old, qf_new, use_qf):
 
 
 @jit
-def residual(F, dF, con, gL, gR, y, w, r, want_jac):
-    """Scaled residual r of the step at iterate y; its RMS.  F (and dF) at the
-    quadrature points are left in w.F (w.dF) for :func:`factor`."""
+def residual(F, dF, con, ends, y, w, r, want_jac):
+    """Scaled residual r of the step at iterate y, the boundary rows' values ``ends`` (an
+    :class:`EndValues`); its RMS.  F (and dF) at the quadrature points are left in w.F
+    (w.dF) for :func:`factor`."""
+    gL, gR = ends.left, ends.right
     co = con.co
     Fn, dFn, c, ybo, ytmp = w.F, w.dF, w.c, w.y_bar_old, w.y_tmp
     P, Q, rs, pq = con.P, con.Q, con.rscale, con.pq

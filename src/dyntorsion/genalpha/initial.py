@@ -4,8 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..model.system import Boundary, System
+from ..model.system import System
 from .newton import ConvergenceError
+from .parts import Grid, Problem
 from .scheme import Scheme
 
 __all__ = ["consistent_rates", "algebraic_residual", "consistent_initial_state"]
@@ -47,25 +48,41 @@ def algebraic_residual(
     return R[:, alg]
 
 
+def _source_at(problem: Problem, s: np.ndarray, t: float) -> np.ndarray | None:
+    """q(s, t) of ``problem``'s sources at the nodes ``s`` (None: no source)."""
+    sources = problem.sources
+    if sources.separable is None and sources.field is None:
+        return None
+    q = np.zeros((s.size, problem.system.nf))
+    if sources.separable is not None:
+        space, g = sources.separable
+        factor = 1.0 if g is None else float(np.asarray(g(np.array([t])))[0])
+        q = np.asarray(space, dtype=float) * factor
+    if sources.field is not None:
+        q = q + sources.field(s, t)
+    return q
+
+
 def consistent_initial_state(
-    system: System,
-    y0: np.ndarray,
+    problem: Problem,
+    grid: Grid,
     *,
-    length: float,
-    left: Boundary,
-    right: Boundary,
     scheme: Scheme = Scheme(),
-    t0: float = 0.0,
-    q0: np.ndarray | None = None,
     tol: float = 1e-13,
     max_iter: int = 20,
 ) -> np.ndarray:
-    """The state nearest to y0 (scaled least change) that satisfies the discrete
-    algebraic rows and both boundary conditions at t0 exactly (Gauss-Newton).
+    """The state nearest to ``problem.y0`` (scaled least change) that satisfies the discrete
+    algebraic rows, with the problem's source, and both boundary conditions at
+    ``grid.t0`` exactly (Gauss-Newton on ``grid``'s nodes); an array (N+1, nf).
 
     Needed for initial data that satisfy the continuous constraint only (a
     manufactured solution, a measured shape); not for the paper's straight rod.
+    Raises :class:`~.newton.ConvergenceError` when ``max_iter`` iterations do not bring the
+    scaled correction below ``tol``.
     """
+    system, left, right, t0 = problem.system, problem.left, problem.right, grid.t0
+    y0, length = problem.y0, grid.length
+    q0 = _source_at(problem, grid.s, t0)
     from scipy import sparse
     from scipy.sparse.linalg import spsolve
 

@@ -14,7 +14,7 @@ from .discrete import Start, setup
 from .guard import check_memory, check_time, check_time_grid
 from .march import StepContext, full_newton_iterations
 from .newton import Newton
-from .parts import Grid, Output, Sources, Stops
+from .parts import Grid, Output, Problem, Stops
 from .plan import Levels, Plan, Source, gate_of, initial_rate
 from .recording import Recorder
 from .run import Run
@@ -44,44 +44,38 @@ def _validate(system: System, grid: Grid, y0, left: Boundary, right: Boundary) -
 
 
 def integrate(
-    system: System,
+    problem: Problem,
     grid: Grid,
     *,
-    y0: np.ndarray,
-    left: Boundary,
-    right: Boundary,
     scheme: Scheme = Scheme(),
     newton: Newton = Newton(),
-    sources: Sources = Sources(),
     output: Output = Output(),
     stops: Stops = Stops(),
-    y_t0: np.ndarray | str = "consistent",
 ) -> Run:
-    """Integrate ``system`` over ``grid`` (t0 to t_end) with the generalised-alpha scheme.
+    """Integrate ``problem`` (:class:`~.parts.Problem`: eq (7), its boundary rows, source and
+    initial state) over ``grid`` (t0 to t_end) with the generalised-alpha scheme.
 
     Parameters
     ----------
+    problem : the model, y0 (N+1, nf, finite), the boundary rows, the source and y_t0.
     grid : the nodes and time levels (:class:`~.parts.Grid`).
-    y0 : initial state (N+1, nf), finite.  At lam_t = -1 the rows without a time
-        derivative (inextensibility) obey R^i = -R^{i-1} in time, so a y0 that
-        violates their discrete form keeps an undamped (-1)^i oscillation that
-        resonates with the multiplier n; pass such data through
-        :func:`consistent_initial_state` first.  The paper's straight initial
-        states satisfy the discrete equations exactly.
-    left, right : boundary rows at s = 0 and s = length (nb_left + nb_right = nf).
     scheme : eq (13)'s parameters; with ``scheme.control`` (a :class:`StepControl`) a step
         whose Newton solve fails is retried with half the step (:mod:`.control`); the fixed
         grid of dt is kept and every recorded level lies on it.  With ``scheme.long_steps``
         (a :class:`LongSteps`) the run starts with steps of a multiple of dt while the
         solution is quiet (:mod:`.long`), recording only the levels they reach.
     newton : the solve of each step (:class:`~.newton.Newton`).
-    sources, output, stops : the source q(s, t), what is kept and when the run may end
-        early (:mod:`.parts`).
-    y_t0 : initial time derivative (N+1, nf), or "consistent" (from the equations,
-        see :func:`consistent_rates`), or "zero".  Irrelevant at lam_t = -1.
+    output, stops : what is kept and when the run may end early (:mod:`.parts`).
+
+    Raises
+    ------
+    ValueError : y0 or the boundary rows do not fit the system and the grid.
+    ConvergenceError : a step's Newton solve failed (its ``run`` holds what was computed).
     """
+    system, left, right = problem.system, problem.left, problem.right
+    sources, y_t0 = problem.sources, problem.y_t0
     t_start = time.perf_counter()
-    y0 = _validate(system, grid, y0, left, right)
+    y0 = _validate(system, grid, problem.y0, left, right)
     n_cells, length, dt, t_end, t0 = grid.n_cells, grid.length, grid.dt, grid.t_end, grid.t0
     record, record_every, snapshots = output.record, output.every, output.snapshots
     stop, check_every = stops.test, stops.check_every

@@ -23,7 +23,18 @@ from .._numba import (
 )
 from . import abd as _abd
 from .abd import Factors
-from .discrete import CONSTANTS, WORK, Constants, Work, factor, prepare_step, residual, solve_neg
+from .discrete import (
+    CONSTANTS,
+    WORK,
+    Constants,
+    EndValues,
+    StepSource,
+    Work,
+    factor,
+    prepare_step,
+    residual,
+    solve_neg,
+)
 from .newton import CONVERGED, OUTCOME, NewtonOptions, Outcome, solve_step
 from .watch import STOP_SIGNATURE, Watch
 
@@ -205,9 +216,9 @@ def march(F, dF, test, ctx, forcing, rec, halt, stats):
     out = Outcome(CONVERGED, 0, 0, 0, 0.0)
     for k in range(nsteps):
         if use_qf:
-            prepare_step(F, con, w, qs, qt[k], qt[k + 1], qf[k], qf[k + 1], True)
+            prepare_step(F, con, w, StepSource(qs, qt[k], qt[k + 1], qf[k], qf[k + 1], True))
         else:
-            prepare_step(F, con, w, qs, qt[k], qt[k + 1], qs, qs, False)
+            prepare_step(F, con, w, StepSource(qs, qt[k], qt[k + 1], qs, qs, False))
         for j in range(N1):
             for f in range(nf):
                 y[j, f] = yo[j, f] + dt * ao[j, f] if rate else yo[j, f]
@@ -254,7 +265,7 @@ def full_newton_iterations(F, dF, con, gL, gR, w, fac, repeats):
     """``repeats`` full Newton iterations at w.y: residual, Jacobian, LU, solve."""
     res = 0.0
     for _ in range(repeats):
-        res = residual(F, dF, con, gL, gR, w.y, w, w.r, True)
+        res = residual(F, dF, con, EndValues(gL, gR), w.y, w, w.r, True)
         factor(con, w, fac)
         solve_neg(fac, w.r, w.dx)
     return res

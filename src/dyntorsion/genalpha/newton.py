@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING, NamedTuple
 import numpy as np
 
 from .._numba import jit, named
-from .discrete import factor, residual, solve_neg
+from .discrete import EndValues, factor, residual, solve_neg
 
 if TYPE_CHECKING:
     from .run import Run
@@ -224,7 +224,7 @@ def _refactor(F, dF, con, gL, gR, w, fac):
     """Residual, Jacobian and its LU factors at w.y, and the Newton correction w.dx.
 
     Returns (RMS residual, status): CONVERGED when the factors are fresh."""
-    res = residual(F, dF, con, gL, gR, w.y, w, w.r, True)
+    res = residual(F, dF, con, EndValues(gL, gR), w.y, w, w.r, True)
     if not math.isfinite(res):
         return res, _NOT_FINITE
     if factor(con, w, fac) >= 0:
@@ -262,7 +262,7 @@ def solve_step(F, dF, con, gL, gR, w, fac, opts):
     nfact = 0
     fresh = False
     if w.factored[0] == 1 and opts.reuse:
-        res = residual(F, dF, con, gL, gR, y, w, r, False)
+        res = residual(F, dF, con, EndValues(gL, gR), y, w, r, False)
         if not math.isfinite(res):
             return Outcome(_NOT_FINITE, 0, nres, nfact, res)
         solve_neg(fac, r, dx)
@@ -285,7 +285,7 @@ def solve_step(F, dF, con, gL, gR, w, fac, opts):
             return Outcome(_CONVERGED, it + 1, nres, nfact, res)
         while True:
             axpy_scaled(y, lam, dx, ys, yt)
-            rest = residual(F, dF, con, gL, gR, yt, w, rt, False)
+            rest = residual(F, dF, con, EndValues(gL, gR), yt, w, rt, False)
             nres += 1
             ndb = np.inf
             if math.isfinite(rest):

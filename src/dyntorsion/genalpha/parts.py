@@ -1,11 +1,12 @@
-"""A run's inputs besides the model: its grid, sources, output and stop tests.
+"""A run's inputs: the problem, its grid, sources, output and stop tests.
 
-The parts of a run that :func:`~.integrate.integrate` takes besides the model, the
-initial state and the boundary rows of eq (7): where and when (:class:`Grid`), the source
-q(s, t) of eq (7) (:class:`Sources`), what is kept (:class:`Output`) and when a run may end
-before t_end (:class:`Stops`).  With the :class:`~.scheme.Scheme` (eq 13 and its options)
-and the :class:`~.newton.Newton` solve they are the whole description of a run; each part
-checks its own values when it is made."""
+The parts :func:`~.integrate.integrate` takes: what is solved (:class:`Problem`: the model,
+the boundary rows and source of eq (7) and the initial state), where and when
+(:class:`Grid`), the source q(s, t) of eq (7) (:class:`Sources`), what is kept
+(:class:`Output`) and when a run may end before t_end (:class:`Stops`).  With the
+:class:`~.scheme.Scheme` (eq 13 and its options) and the :class:`~.newton.Newton` solve
+they are the whole description of a run; each part checks its own values when it is
+made."""
 
 from __future__ import annotations
 
@@ -16,10 +17,11 @@ from typing import Any
 
 import numpy as np
 
+from ..model.system import Boundary, System
 from .guard import check_time_grid
 from .watch import CompiledStop
 
-__all__ = ["Grid", "Sources", "Output", "Stops"]
+__all__ = ["Problem", "Grid", "Sources", "Output", "Stops"]
 
 
 @dataclass(frozen=True)
@@ -65,6 +67,27 @@ class Sources:
 
     separable: tuple[np.ndarray, Callable[[np.ndarray], np.ndarray] | None] | None = None
     field: Callable[[np.ndarray, float], np.ndarray] | None = None
+
+
+@dataclass(frozen=True)
+class Problem:
+    """Eq (7) with its data: the model ``system``, the initial state ``y0`` (N+1, nf), the
+    boundary rows ``left`` at s = 0 and ``right`` at s = length (nb_left + nb_right = nf),
+    the source ``sources`` and the initial rate ``y_t0``: an array (N+1, nf),
+    ``"consistent"`` (from the equations, :func:`~.plan.initial_rate`) or ``"zero"``.
+
+    At lam_t = -1 the rows without a time derivative (inextensibility) obey R^i = -R^{i-1}
+    in time, so a y0 that violates their discrete form keeps an undamped (-1)^i
+    oscillation that resonates with the multiplier n; pass such data through
+    :func:`~.initial.consistent_initial_state` first.  The paper's straight initial states
+    satisfy the discrete equations exactly."""
+
+    system: System
+    y0: np.ndarray
+    left: Boundary
+    right: Boundary
+    sources: Sources = Sources()
+    y_t0: np.ndarray | str = "consistent"
 
 
 @dataclass(frozen=True)

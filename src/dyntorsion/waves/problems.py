@@ -10,6 +10,7 @@ from typing import Any
 import numpy as np
 
 from ..genalpha import Boundary, Grid, Newton, Output, Run, Scheme, System, integrate
+from ..genalpha import Problem as Equations
 from ..model.rod import Rod
 from .checks import Series, positive_number
 from .dalembert import instant_release_dalembert, linear_loading_dalembert, smooth_release_dalembert
@@ -151,17 +152,13 @@ def solve(
     y0[:, 0] = problem.kappa0
     scheme = Scheme(lam_s=lam_s, lam_t=lam_t)
     run = integrate(
-        system,
+        Equations(system, y0, left, right, y_t0="zero"),
         Grid(int(n_cells), rod.L, dt, float(times_arr.max())),
-        y0=y0,
-        left=left,
-        right=right,
         scheme=scheme,
         newton=newton,
         output=Output(
             snapshots=list(times_arr), meta={"problem": repr(problem), "rod": rod.as_dict()}
         ),
-        y_t0="zero",
     )
     snaps = np.array([run.snapshot(ti) for ti in times_arr])
     return WaveSolution(

@@ -13,7 +13,7 @@ import numpy as np
 
 from ...buckling.simulation import RECORDED
 from ...buckling.stops import STRAIGHT
-from ...genalpha import ConvergenceError, Output, Sources, Stops, integrate
+from ...genalpha import ConvergenceError, Output, Problem, Sources, Stops, integrate
 from ...model.cosserat import Cosserat, Params
 from .budget import SchemeBudget
 from .centreline import Reconstruction
@@ -206,12 +206,7 @@ def march_lagged(between, system, scene, grid, y0, left, right, q_seed):
     ``between.check_every`` steps: the run and how it ended."""
     check_every = between.check_every
     try:
-        run = integrate(
-            system, grid, y0=y0, left=left, right=right, scheme=scene.scheme,
-            newton=scene.newton, sources=Sources(separable=(q_seed, None), field=between.field),
-            output=Output(record=RECORDED, every=check_every, progress=False),
-            stops=Stops(test=between, check_every=1),
-        )  # fmt: skip
+        run = integrate(Problem(system, y0, left, right, sources=Sources(separable=(q_seed, None), field=between.field)), grid, scheme=scene.scheme, newton=scene.newton, output=Output(record=RECORDED, every=check_every, progress=False), stops=Stops(test=between, check_every=1))  # fmt: skip
         return run, run.stopped
     except ConvergenceError as err:
         if err.run is None:

@@ -33,7 +33,9 @@ from ...genalpha import abd as _abd
 from ...genalpha.discrete import (
     CONSTANTS,
     WORK,
+    EndValues,
     Start,
+    StepSource,
     constants,
     factor,
     prepare_step,
@@ -82,14 +84,14 @@ _I = numba.int64
 def _prepare(F, con, w, qs, q_old, q_new):
     """The fixed part of the step (the engine's prepare_step; sources q_seed and the
     contact's at the old level and, with q_new = 0, none at the new one)."""
-    prepare_step(F, con, w, qs, 1.0, 1.0, q_old, q_new, True)
+    prepare_step(F, con, w, StepSource(qs, 1.0, 1.0, q_old, q_new, True))
 
 
 @jit(signature=numba.float64(_F, _DF, CONSTANTS, A1, A1, WORK))
 def residual_jacobian(F, dF, con, gL, gR, w):
     """The residual w.r at w.y (its RMS) and the Jacobian of F at the quadrature points
     (w.dF), which :func:`factor_jacobian` assembles."""
-    return residual(F, dF, con, gL, gR, w.y, w, w.r, True)
+    return residual(F, dF, con, EndValues(gL, gR), w.y, w, w.r, True)
 
 
 @jit(signature=_I(CONSTANTS, WORK, _abd.FACTORS))
@@ -102,7 +104,7 @@ def factor_jacobian(con, w, fac):
 @jit(signature=numba.float64(_F, _DF, CONSTANTS, A1, A1, WORK))
 def _residual_only(F, dF, con, gL, gR, w):
     """The residual w.r_trial at w.y_trial (its RMS)."""
-    return residual(F, dF, con, gL, gR, w.y_trial, w, w.r_trial, False)
+    return residual(F, dF, con, EndValues(gL, gR), w.y_trial, w, w.r_trial, False)
 
 
 @jit(signature=_I(_F, _DF, CONSTANTS, A1, A1, WORK, _abd.FACTORS, NEWTON_OPTIONS))
