@@ -1,5 +1,5 @@
 """Cost of the linear solve of one Newton iteration of a contact step
-(:mod:`dyntorsion.beyond.contact.linear`): the Woodbury correction on the banded factors
+(:mod:`dyntorsion.genalpha.low_rank`): the Woodbury correction on the banded factors
 against the sparse LU of the whole matrix, versus the number of rank-one contact terms, at
 N = 100, 400 and 800 cells (the Table 1 rod, a bent state with every field nonzero).
 
@@ -8,7 +8,7 @@ segments far apart along the rod, nonzero in the rows of the cells beside their 
 and in the velocities and spins of those nodes.  Both solves are timed after the banded
 factorisation the Newton iteration makes anyway; the largest difference of the two
 solutions relative to their size is printed.  The switch
-:func:`~dyntorsion.beyond.contact.linear.sparse_from` should sit near the crossing
+:func:`~dyntorsion.genalpha.low_rank.sparse_from` should sit near the crossing
 (printed).  Run it with one BLAS thread (``OPENBLAS_NUM_THREADS=1``) when other processes
 share the cores.  Medians of repeated runs on a shared machine: compare the ratios.
 Nothing is asserted.
@@ -41,11 +41,11 @@ import time
 import numpy as np
 
 from dyntorsion import Rod, __version__
-from dyntorsion.beyond.contact.linear import sparse_from, sparse_solve, woodbury_solve
-from dyntorsion.beyond.contact.marching import factor_jacobian, residual_jacobian
 from dyntorsion.buckling.scene import Scene
 from dyntorsion.genalpha.discrete import Start, setup
+from dyntorsion.genalpha.low_rank import sparse_from, sparse_solve, woodbury_solve
 from dyntorsion.genalpha.scheme import Scheme
+from dyntorsion.genalpha.state import factor_jacobian, residual_jacobian
 from dyntorsion.model.cosserat import Cosserat
 from worktree import ROOT, checkout, run_code, run_json
 

@@ -9,7 +9,16 @@ import pytest
 from dyntorsion import Rod
 from dyntorsion import genalpha as ga
 from dyntorsion.buckling.loading import EQ30
-from dyntorsion.genalpha.discrete import Pattern, Start, pattern, prepare_step, residual, setup
+from dyntorsion.genalpha.discrete import (
+    EndValues,
+    Pattern,
+    Start,
+    StepSource,
+    pattern,
+    prepare_step,
+    residual,
+    setup,
+)
 from dyntorsion.model.cosserat import IDX, Cosserat
 
 
@@ -67,14 +76,14 @@ def test_skipping_zeros_changes_no_bit_of_the_residual(quadrature, matrices, rng
     dense = con._replace(pq=_dense(12), mk=_dense(12))
     assert int(con.pq.n.sum()) < 12 * 12  # sparse: zeros are skipped
     qs = 1e-8 * rng.normal(size=w.y.shape)
-    prepare_step(system.F, con, w, qs, 0.3, 0.7, qs, qs, False)
+    prepare_step(system.F, con, w, StepSource(qs, 0.3, 0.7, qs, qs, False))
     fixed_sparse = w.c.copy()
-    prepare_step(system.F, dense, w, qs, 0.3, 0.7, qs, qs, False)
+    prepare_step(system.F, dense, w, StepSource(qs, 0.3, 0.7, qs, qs, False))
     assert np.array_equal(fixed_sparse, w.c)
     y = w.y_old + 1e-3 * ys * rng.normal(size=w.y.shape)
     r_sparse, r_dense = np.zeros_like(w.r), np.zeros_like(w.r)
-    res_s = residual(system.F, system.dF, con, gL, gR, y, w, r_sparse, True)
-    res_d = residual(system.F, system.dF, dense, gL, gR, y, w, r_dense, True)
+    res_s = residual(system.F, system.dF, con, EndValues(gL, gR), y, w, r_sparse, True)
+    res_d = residual(system.F, system.dF, dense, EndValues(gL, gR), y, w, r_dense, True)
     assert res_s == res_d
     assert np.array_equal(r_sparse, r_dense)
 
@@ -89,13 +98,13 @@ def test_the_sums_read_the_pattern(rng):
     different loops)."""
     system, con, w, gL, gR, ys = _rod_case("trapezoidal", rng)
     qs = 1e-8 * rng.normal(size=w.y.shape)
-    prepare_step(system.F, con, w, qs, 0.3, 0.7, qs, qs, False)
+    prepare_step(system.F, con, w, StepSource(qs, 0.3, 0.7, qs, qs, False))
     fixed_full = w.c.copy()
-    prepare_step(system.F, con._replace(mk=_short(con.mk)), w, qs, 0.3, 0.7, qs, qs, False)
+    prepare_step(system.F, con._replace(mk=_short(con.mk)), w, StepSource(qs, 0.3, 0.7, qs, qs, False))
     assert not np.array_equal(fixed_full, w.c)
     short = con._replace(pq=_short(con.pq))
     y = w.y_old + 1e-3 * ys * rng.normal(size=w.y.shape)
     r_full, r_short = np.zeros_like(w.r), np.zeros_like(w.r)
-    residual(system.F, system.dF, con, gL, gR, y, w, r_full, False)
-    residual(system.F, system.dF, short, gL, gR, y, w, r_short, False)
+    residual(system.F, system.dF, con, EndValues(gL, gR), y, w, r_full, False)
+    residual(system.F, system.dF, short, EndValues(gL, gR), y, w, r_short, False)
     assert not np.array_equal(r_full, r_short)

@@ -43,6 +43,23 @@ def _validate(system: System, grid: Grid, y0, left: Boundary, right: Boundary) -
     return y0
 
 
+def _supports_state(scheme: Scheme, output: Output, stops: Stops) -> None:
+    """A state-dependent source takes its own steps (:mod:`.state_steps`): refuse what they
+    do not support, naming it."""
+    unsupported = {
+        "scheme.control (step-size control)": scheme.control is not None,
+        "scheme.long_steps": scheme.long_steps is not None,
+        "output.record": bool(output.record),
+        "output.snapshots": bool(output.snapshots),
+        "stops.test (the source's level_reached ends the run)": stops.test is not None,
+    }
+    refused = [name for name, used in unsupported.items() if used]
+    if refused:
+        raise ValueError(
+            f"sources.state: a state-dependent source does not support {', '.join(refused)}"
+        )
+
+
 def integrate(
     problem: Problem,
     grid: Grid,
@@ -76,6 +93,8 @@ def integrate(
     sources, y_t0 = problem.sources, problem.y_t0
     t_start = time.perf_counter()
     y0 = _validate(system, grid, problem.y0, left, right)
+    if sources.state is not None:
+        _supports_state(scheme, output, stops)
     n_cells, length, dt, t_end, t0 = grid.n_cells, grid.length, grid.dt, grid.t_end, grid.t0
     record, record_every, snapshots = output.record, output.every, output.snapshots
     stop, check_every = stops.test, stops.check_every
@@ -91,7 +110,7 @@ def integrate(
     plan = Plan.of(system, grid, n_steps, output, stops)
     levels = Levels.of(times, left, right, src)
     ctx = StepContext(con, work, fac, newton.options())
-    stepper = Stepper(system, scheme, grid, left, right, levels, ctx)
+    stepper = Stepper(system, scheme, grid, left, right, levels, ctx, sources.state)
     recorder = Recorder(plan, times, y0, record_every)
     stopper = Stopper(stop, gate_of(system, stops.gate, ds, stop), plan, n_steps, work.y_old)
     stopped, failure, done = "t_end", None, 0
@@ -119,6 +138,9 @@ def integrate(
                 act_on(caught)
                 if failure is not None:
                     stopped = f"failed: {failure}"
+                    break
+                if stepper.reason:
+                    stopped = stepper.reason
                     break
                 if bar is not None:
                     bar.update(completed)

@@ -63,10 +63,13 @@ class Grid:
 class Sources:
     """The source q(s, t) of eq (7): ``separable`` = (q_space (N+1, nf), g) for
     q = q_space(s) g(t) (g maps an array of times to an array; None means g = 1), and/or
-    ``field``, a callable (s, t) -> (N+1, nf) for a general source."""
+    ``field``, a callable (s, t) -> (N+1, nf) for a general source, and/or ``state``, a
+    :class:`~.state.StateSource` whose source depends on the new level itself (solved inside
+    each step, :mod:`.state_steps`)."""
 
     separable: tuple[np.ndarray, Callable[[np.ndarray], np.ndarray] | None] | None = None
     field: Callable[[np.ndarray, float], np.ndarray] | None = None
+    state: Any = None
 
 
 @dataclass(frozen=True)

@@ -1,7 +1,7 @@
 """Stepping: how the steps of a chunk of levels are taken.  The compiled march
 (:mod:`.march`) at the fixed step; with ``scheme.control`` step-size control
 (:mod:`.control`) instead; with ``scheme.long_steps`` long steps first while the solution
-is quiet (:mod:`.long`).  Each returns the number of levels it completed and, if a step's
+is quiet (:mod:`.long`); with a state-dependent source its own steps (:mod:`.state_steps`).  Each returns the number of levels it completed and, if a step's
 Newton solve failed, the :class:`~.newton.ConvergenceError` that says when and why."""
 
 from __future__ import annotations
@@ -16,6 +16,7 @@ from .march import Halt, Recording, StepContext, march
 from .newton import REASONS, ConvergenceError, Status
 from .parts import Grid
 from .plan import Levels, Plan
+from .state_steps import StateSteps
 
 __all__ = ["Stepper"]
 
@@ -30,9 +31,12 @@ class Stepper:
     """
 
     def __init__(
-        self, system, scheme, grid: Grid, left, right, levels: Levels, ctx: StepContext
+        self, system, scheme, grid: Grid, left, right, levels: Levels, ctx: StepContext, state=None
     ) -> None:
         self.system, self.levels, self.ctx = system, levels, ctx
+        self.coupled = None
+        if state is not None:
+            self.coupled = StateSteps(state, system, scheme, grid, left, right, levels, ctx)
         self.adaptive = None
         if scheme.control is not None:
             self.adaptive = Adaptive(scheme.control, system, scheme, grid, left, right, levels, ctx)
@@ -55,7 +59,10 @@ class Stepper:
     def chunk(
         self, k0: int, k1: int, rec: Recording, stats: np.ndarray, gate, test, watch, times
     ) -> tuple[int, ConvergenceError | None]:
-        """Steps from level k0 to k1 at the fixed step (or under step control)."""
+        """Steps from level k0 to k1 at the fixed step (or under step control, or with a
+        state-dependent source)."""
+        if self.coupled is not None:
+            return self.coupled.chunk(k0, k1)
         if self.adaptive is not None:
             return self.adaptive.chunk(k0, k1, rec, stats, gate, test, watch)
         completed, outcome = march(
@@ -86,9 +93,15 @@ class Stepper:
     def summary(self, done: int) -> dict[str, Any]:
         """What step control and long steps did, for the run's ``meta``."""
         return {
+            **({} if self.coupled is None else {"state": self.coupled.summary()}),
             **({} if self.adaptive is None else {"control": self.adaptive.summary(done)}),
             **({} if self.long is None else {"long_steps": self.long.summary()}),
         }
+
+    @property
+    def reason(self) -> str | None:
+        """Why a state-dependent source ended the run (None: it did not)."""
+        return None if self.coupled is None else self.coupled.reason
 
     @property
     def rejections(self) -> list:

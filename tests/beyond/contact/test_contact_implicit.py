@@ -1,7 +1,7 @@
 """The contact inside the implicit step (dyntorsion.beyond.contact.implicit): the Jacobian
 (C5: rank-one terms of the pairs and the frames' blocks) is the derivative of the contact's
 residual, the blocks in the band give the same matrix, the Woodbury solve on the banded
-factors and the sparse LU (dyntorsion.beyond.contact.linear) are the dense solve, the
+factors and the sparse LU (dyntorsion.genalpha.low_rank) are the dense solve, the
 candidate pairs are those of the definition, the fixed normal holds a pair apart whatever
 the step."""
 
@@ -20,15 +20,15 @@ from dyntorsion.beyond.contact.implicit import (
     contact_source,
 )
 from dyntorsion.beyond.contact.law import LawParams
-from dyntorsion.beyond.contact.linear import (
-    contact_solve,
+from dyntorsion.genalpha.discrete import Start, setup
+from dyntorsion.genalpha.low_rank import (
+    low_rank_solve,
     sparse_from,
     sparse_solve,
     woodbury_solve,
 )
-from dyntorsion.beyond.contact.marching import factor_jacobian, residual_jacobian
-from dyntorsion.genalpha.discrete import Start, setup
 from dyntorsion.genalpha.scheme import Scheme
+from dyntorsion.genalpha.state import factor_jacobian, residual_jacobian
 from dyntorsion.model.cosserat import Cosserat
 from dyntorsion.model.rod import Rod
 from dyntorsion.shapes import rodrigues
@@ -243,16 +243,16 @@ def test_the_candidate_pairs_are_those_of_the_definition():
 
 
 def test_many_contact_columns_take_the_sparse_lu(monkeypatch):
-    """contact_solve: Woodbury below sparse_from(N) terms, the sparse LU from there; the
+    """low_rank_solve: Woodbury below sparse_from(N) terms, the sparse LU from there; the
     switch moves up with N (each banded solve of Woodbury costs ~N)."""
-    import dyntorsion.beyond.contact.linear as lin
+    import dyntorsion.genalpha.low_rank as lin
 
     called = []
     monkeypatch.setattr(lin, "woodbury_solve", lambda *a: called.append("woodbury"))
     monkeypatch.setattr(lin, "sparse_solve", lambda *a: called.append("sparse"))
     w = type("W", (), {"left": 0, "A": np.zeros((400, 1, 1)), "B": 0, "right": 0})()
     for m in (sparse_from(400) - 1, sparse_from(400)):
-        contact_solve(w, None, None, np.zeros((m, 1)), None, None)
+        low_rank_solve(w, None, None, np.zeros((m, 1)), None, None)
     assert called == ["woodbury", "sparse"]
     assert 100 < sparse_from(100) < sparse_from(800) < 768
 

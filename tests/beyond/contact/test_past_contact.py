@@ -330,16 +330,16 @@ def test_a_passage_through_itself_ends_the_run_with_a_clear_error():
 
 
 def _flaky(monkeypatch, fail):
-    """Make the implicit march's free Newton solve fail where ``fail(call)`` says so."""
-    from dyntorsion.beyond.contact import marching
+    """Make the state steps' free Newton solve fail where ``fail(call)`` says so."""
+    from dyntorsion.genalpha import state_steps
 
-    real_solve, calls = marching._free_newton, [0]
+    real_solve, calls = state_steps.free_newton, [0]
 
     def flaky(*args):
         calls[0] += 1
         return 1 if fail(calls[0]) else real_solve(*args)
 
-    monkeypatch.setattr(marching, "_free_newton", flaky)
+    monkeypatch.setattr(state_steps, "free_newton", flaky)
     return calls
 
 

@@ -2,7 +2,7 @@
 
 What a run past contact does between steps (:mod:`.run`): the rebuilt shape, the
 contact law on it for the reported overlap, the energy budget and the topology (the
-engine's stop test on the lagged route, consulted after every step by :mod:`.marching` on
+engine's stop test on the lagged route, consulted after every step by the engine (:mod:`.source`) on
 the implicit one), and the lagged route through the engine."""
 
 from __future__ import annotations

@@ -51,7 +51,7 @@ w^i too:
 and the Jacobian is exact in both u^i and w^i (checked against finite differences).
 Measured (a = 16, N = 200): (C4) alone did not cut the Newton iterations of a contact
 step (about 24 without, 22.5 with); the failing solves had no active pair -- the frames
-turned ~0.8 rad in a substep -- and the step control of :mod:`.marching` is what brought
+turned ~0.8 rad in a substep -- and the step control of :mod:`dyntorsion.genalpha.state_steps` is what brought
 them to 8.6.  A normal fixed over the step cannot be crossed: the rod
 cannot pass through itself within a step that starts on the right side, whatever the
 step, as the spatial normal of the lagged law could (it flips when the centrelines cross).
@@ -85,7 +85,7 @@ from scipy.spatial import cKDTree
 
 from ... import shapes
 from ..._numba import IndexMatrix, Matrix, Vector, jit
-from .law import LawParams, closest_points, node_share
+from .law import LawParams, closest_points, fixture_apart, node_share, ordered_apart
 
 __all__ = ["Known", "Layout", "StepParams", "Pairs", "candidates", "contact_source"]
 
@@ -141,10 +141,8 @@ def _gather_kernel(p: LawParams, r, pairs, reach, tails, fixtures, out: Pairs):
     n_seg = r.shape[0] - 1
     k = 0
     for m in range(pairs.shape[0]):
-        i, j = pairs[m, 0], pairs[m, 1]
-        if i > j:
-            i, j = j, i
-        if (j - i - 1) * p.ds <= p.min_arc:
+        i, j, apart = ordered_apart(p, pairs[m, 0], pairs[m, 1])
+        if not apart:
             continue
         s, t, dv = closest_points(r[i], r[i + 1], r[j], r[j + 1])
         d = math.sqrt(dv @ dv)
@@ -166,8 +164,7 @@ def _gather_kernel(p: LawParams, r, pairs, reach, tails, fixtures, out: Pairs):
                 continue
             if side == 1 and not high > r[n_seg, 2] - reach:
                 continue
-            gap = (n_seg - 1 - i) * p.ds if side == 1 else i * p.ds
-            if gap <= p.min_arc:
+            if not fixture_apart(p, n_seg, i, side):
                 continue
             s, _, dv = closest_points(r[i], r[i + 1], tails[side, 0], tails[side, 1])
             d = math.sqrt(dv @ dv)

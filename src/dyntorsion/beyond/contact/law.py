@@ -126,14 +126,30 @@ def _pair(p: LawParams, a0, a1, va, b0, b1, vb, obstacle):
 
 
 @jit
+def ordered_apart(p: LawParams, i, j):
+    """The segment pair (i, j) ordered i <= j, and whether the two lie farther apart along
+    the rod than ``min_arc`` (nearer pairs are neighbours, never in contact): the pair
+    filter of the law here and of the implicit step's candidates (:mod:`.implicit`)."""
+    if i > j:
+        i, j = j, i
+    return i, j, (j - i - 1) * p.ds > p.min_arc
+
+
+@jit
+def fixture_apart(p: LawParams, n_seg, i, side):
+    """Whether segment ``i`` of ``n_seg`` lies farther than ``min_arc`` along the rod from
+    the end whose axis piece ``side`` (0 at s = 0, 1 at s = L) continues."""
+    gap = (n_seg - 1 - i) * p.ds if side == 1 else i * p.ds
+    return gap > p.min_arc
+
+
+@jit
 def _self_forces(p: LawParams, r, v, pairs, out, touching):
     """Forces of the candidate segment pairs (i < j) on the nodes; the stats of the level."""
     worst, count, energy, power, speed = 0.0, 0, 0.0, 0.0, 0.0
     for m in range(pairs.shape[0]):
-        i, j = pairs[m, 0], pairs[m, 1]
-        if i > j:
-            i, j = j, i
-        if (j - i - 1) * p.ds <= p.min_arc:
+        i, j, apart = ordered_apart(p, pairs[m, 0], pairs[m, 1])
+        if not apart:
             continue
         delta, s, t, F, pw, en, vn = _pair(
             p, r[i], r[i + 1], v[i : i + 2], r[j], r[j + 1], v[j : j + 2], False
@@ -163,8 +179,7 @@ def _fixture_forces(p: LawParams, r, v, tails, near, out, touching, count):
         for i in range(n):
             if not near[k, i]:
                 continue
-            gap = (n - 1 - i) * p.ds if k == 1 else i * p.ds
-            if gap <= p.min_arc:
+            if not fixture_apart(p, n, i, k):
                 continue
             delta, s, _, F, pw, en, vn = _pair(
                 p, r[i], r[i + 1], v[i : i + 2], tails[k, 0], tails[k, 1], still, True

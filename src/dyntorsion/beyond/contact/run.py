@@ -4,7 +4,7 @@ contact, keyed by the scene's key plus ``"contact"``: scenes without contact kee
 keys and records) and :func:`run_contact_scene`.
 
 **Implicit (default).**  The contact inside the implicit step on the time route of the
-centreline (:mod:`.implicit`), marched by :mod:`.marching`; between steps the bookkeeping
+centreline (:mod:`.implicit`), stepped by the engine as a state-dependent source (:mod:`.source`); between steps the bookkeeping
 in :mod:`.between` (rebuild, law for the reported overlap, energy, topology) on that route.
 **Lagged (``implicit=False``, the first cut).**  The scene's run through the engine,
 :func:`dyntorsion.genalpha.integrate`, with two additions made between steps:
@@ -39,15 +39,16 @@ from typing import Any
 import numpy as np
 
 from ...buckling.scene import Scene
-from ...genalpha import Grid
+from ...genalpha import ConvergenceError, Grid, Output, Problem, Sources, integrate
 from ...genalpha.guard import real
+from ...genalpha.state import Substeps
 from ...model.cosserat import Cosserat
 from .between import Between, march_lagged
 from .budget import share
 from .damped import damped_system
 from .law import LawParams, lag_cost
-from .marching import Engine, Substeps, march_implicit
 from .plectoneme import plectoneme_turns
+from .source import ContactSource
 
 __all__ = ["Contact", "ContactScene", "ContactRun", "PassageError", "run_contact_scene"]
 
@@ -72,12 +73,12 @@ class Contact:
     viscous, viscous_moment : linear damping per length of the velocity [N s/m^2] and of
         the spin [N s], >= 0 (0: none).
     stability : omega_c dt_run <= stability (the lagged penalty's step), in (0, 2].
-    implicit : the contact inside the implicit step (:mod:`.implicit`, :mod:`.marching`);
+    implicit : the contact inside the implicit step (:mod:`.implicit`, :mod:`.source`);
         False: lagged one step (the first cut).
     max_step : implicit: dt_run = scene.dt / m <= max_step [s], > 0, the longest substep
         near contact (an accuracy bound: the implicit law is stable at any step).
     min_step : implicit: the shortest substep [s], > 0 and <= max_step; fast motion and
-        failed Newton solves halve the substep down to it (:func:`.marching.march_implicit`).
+        failed Newton solves halve the substep down to it (:mod:`dyntorsion.genalpha.state_steps`).
     max_cell_bend : the run stops ("under-resolved: ...") once the bending within one
         cell, ds |kappa_b|, passes it [rad], > 0.  Measured, a = 16: the loop after the
         first contact tightens to a radius of a few D (3.5 D at N = 400 within 0.26 s);
@@ -276,11 +277,16 @@ def run_contact_scene(
     check_every = max(1, int(round(cs.contact.check / dt)))
     between = Between(cs, model, y0, rod.L / n, dt, q_seed, check_every, time_route)
     if c.implicit:
-        grid = Grid(n, rod.L, scene.dt, t_end)
-        engine = Engine(system, scene.scheme, scene.newton)
-        run = march_implicit(between, engine, grid, y0, left, right, q_seed,
-                             Substeps(cs.substeps(), c.min_step))  # fmt: skip
-        stopped = run.stopped
+        source = ContactSource(between, q_seed, y0, Substeps(cs.substeps(), c.min_step))
+        problem = Problem(system, y0, left, right, Sources(separable=(q_seed, None), state=source))
+        try:
+            run = integrate(problem, Grid(n, rod.L, scene.dt, t_end), scheme=scene.scheme,
+                            newton=scene.newton, output=Output(progress=False))  # fmt: skip
+            stopped = run.stopped
+        except ConvergenceError as err:
+            if err.run is None:
+                raise
+            run, stopped = err.run, f"failed: {err}"
     else:
         run, stopped = march_lagged(between, system, scene, Grid(n, rod.L, dt, t_end), y0, left,
                                     right, q_seed)  # fmt: skip
@@ -330,5 +336,5 @@ def run_contact_scene(
         "wall_time": time.perf_counter() - wall,
     }
     if c.implicit:
-        summary["implicit"] = run.cost(rod.thickness)
+        summary["implicit"] = source.cost(run.meta["state"], rod.thickness)
     return ContactRun(cs, run, h, summary)

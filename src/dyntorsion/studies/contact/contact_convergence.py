@@ -21,7 +21,7 @@ lambda_inf = -0.8, to t = 3.3 s, and the time route at N = 800 with lambda_inf =
 (energy budget, drifts of the centreline, cost) are kept.
 
 Run: ``python -m dyntorsion.studies.contact.contact_convergence [--jobs J]`` (about 1.5 h on one core before the
-sparse contact solve of :mod:`dyntorsion.beyond.contact.linear`).
+sparse contact solve of :mod:`dyntorsion.genalpha.low_rank`).
 """
 
 from __future__ import annotations

@@ -34,7 +34,7 @@ The scene of ``benchmarks/pyelastica_plectoneme.py`` (its constants are imported
   PyElastica's lateral velocity kick of 1e-4 m/s at the middle node every step of the
   twisting phase.
 * time: generalised-alpha with lambda_inf = ``LAM_T`` in time, the step of each run below
-  (halved where Newton fails, :func:`~dyntorsion.beyond.contact.marching.march_implicit`).
+  (halved where Newton fails, :mod:`dyntorsion.genalpha.state_steps`).
 
 Every run records, every 0.1 s: link, twist and writhe (:mod:`dyntorsion.beyond.contact.
 topology`), contact sites, the deepest overlap, the axial position of the sliding end, and

@@ -1,8 +1,8 @@
-"""The linear solve of one Newton iteration of a contact step (:mod:`.implicit`): the
-banded Jacobian J of the step (:mod:`dyntorsion.genalpha.abd`, the frames' 3 x 3 blocks
-of (C5) included) plus the rank-one terms U^T G of (C5), one row of ``U`` and ``G`` for
-each pair pressing (and, with the midpoint quadrature of the load, three for each node in
-contact: its frame's 3 x 3 block, kept out of the band):
+"""The linear solve of one Newton iteration of a step with a state-dependent source
+(:mod:`.state`): the banded Jacobian J of the step (:mod:`.abd`, the source's 3 x 3 blocks
+included) plus its rank-one terms U^T G (for contact, :mod:`dyntorsion.beyond.contact.
+implicit`'s (C5): one row of ``U`` and ``G`` for each pair pressing, and with the midpoint
+quadrature of the load three for each node in contact):
 
     (J + U^T G) dx = -r,        U, G of shape (k, rows of the scaled residual).
 
@@ -28,15 +28,15 @@ import numpy as np
 import scipy.sparse as sps
 import scipy.sparse.linalg as spla
 
-from ..._numba import jit
-from ...genalpha import abd as _abd
-from ...genalpha.discrete import solve_neg
+from .._numba import jit
+from . import abd as _abd
+from .discrete import solve_neg
 
-__all__ = ["contact_solve", "sparse_from", "sparse_solve", "woodbury_solve"]
+__all__ = ["low_rank_solve", "sparse_from", "sparse_solve", "woodbury_solve"]
 
 
 def sparse_from(n_cells: int) -> int:
-    """The number of rank-one terms from which :func:`contact_solve` takes the sparse LU on
+    """The number of rank-one terms from which :func:`low_rank_solve` takes the sparse LU on
     N = ``n_cells`` (near the measured crossing, module docstring)."""
     return 150 + n_cells // 3
 
@@ -73,7 +73,7 @@ def sparse_solve(left, A, B, right, r, U, G, out) -> None:
     out[:, :] = -spla.splu(sps.csc_matrix(J)).solve(r).reshape(out.shape)
 
 
-def contact_solve(w, fac, r, U, G, out) -> None:
+def low_rank_solve(w, fac, r, U, G, out) -> None:
     """out = -(J + U^T G)^{-1} r: Woodbury below :func:`sparse_from` terms, else the sparse
     LU (module docstring)."""
     if U.shape[0] < sparse_from(w.A.shape[0]):
