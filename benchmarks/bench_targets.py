@@ -90,7 +90,12 @@ quick = sys.argv[2] == "1"
 from dyntorsion import buckling as b
 from dyntorsion.buckling import scene as S
 from dyntorsion.studies import presets as P
-from dyntorsion.beyond.linear_stability import LateralModel, PassageSteps
+from dyntorsion.beyond.linear_stability import LateralModel
+try:  # the integration's settings in one part (older engines took them as keywords)
+    from dyntorsion.beyond.linear_stability import PassageSteps
+    SHORT_PASSAGE = {"steps": PassageSteps(t_end=0.1)}
+except ImportError:
+    SHORT_PASSAGE = {"t_end": 0.1}
 
 def median(f, n):
     out = []
@@ -256,7 +261,7 @@ if estimate is not None:
 else:
     res["estimate_ms"] = float("nan")
 model = LateralModel()
-model.passage(1.6, 10.0, 1e-8, waves=False, steps=PassageSteps(t_end=0.1))
+model.passage(1.6, 10.0, 1e-8, waves=False, **SHORT_PASSAGE)
 res["linear_waves_s"] = median(lambda: model.passage(1.6, 10.0, 1e-8, waves=True), 1 if quick else 3)
 res["linear_ramp_s"] = median(lambda: model.passage(1.6, 10.0, 1e-8, waves=False), 3)
 res["sim_fig10_a1.6_s"] = median(
