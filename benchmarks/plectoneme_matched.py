@@ -164,7 +164,8 @@ def main(argv: list[str] | None = None) -> int:
         print("\n".join(table(json.loads(OUT.read_text()))))
         return 0
     os.environ[INVOCATION] = f"{os.getpid()}-{time.time():.0f}"
-    imports = (dyn.__name__, dyn.SCENE, pe.__file__, run_missing.__module__)
+    # the scenes' code, not the record helpers' (they run and write, computing no number)
+    imports = (dyn.__name__, dyn.SCENE, pe.__file__)
     code = provenance(__file__, ROOTS, imports) | {"pyelastica": version("pyelastica")}
     record = {"params": params(), "code": code, "dyntorsion": [], "pyelastica": []}
     record = run_missing(

@@ -100,7 +100,9 @@ def test_the_sums_read_the_pattern(rng):
     qs = 1e-8 * rng.normal(size=w.y.shape)
     prepare_step(system.F, con, w, StepSource(qs, 0.3, 0.7, qs, qs, False))
     fixed_full = w.c.copy()
-    prepare_step(system.F, con._replace(mk=_short(con.mk)), w, StepSource(qs, 0.3, 0.7, qs, qs, False))
+    prepare_step(
+        system.F, con._replace(mk=_short(con.mk)), w, StepSource(qs, 0.3, 0.7, qs, qs, False)
+    )
     assert not np.array_equal(fixed_full, w.c)
     short = con._replace(pq=_short(con.pq))
     y = w.y_old + 1e-3 * ys * rng.normal(size=w.y.shape)
