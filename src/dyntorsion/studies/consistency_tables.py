@@ -16,10 +16,9 @@ from typing import Any
 
 import pandas as pd
 
-from ..store.results import Store
 from . import claims, consistency
 from . import readings as R
-from .page_records import read_or_compute_frames
+from .page_records import table_loader, tables_main
 
 __all__ = ["KIND", "SCAN_STEP", "BAND", "Tables", "params", "study", "load"]
 
@@ -101,31 +100,19 @@ class Tables:
         return self._t["closest"].iloc[0].copy()
 
 
-def load(
-    store: Store | str | None = None, *, compute: bool = False, on_stale: str = "recompute"
-) -> Tables:
-    """The record from ``store`` (default data/scenes): computed when missing or stale
-    with ``compute=True`` (a stale one refused with ``on_stale="error"``), refused
-    otherwise (:class:`LookupError` naming ``make data-studies``)."""
-    p = params()
-    return Tables(
-        read_or_compute_frames(KIND, p, lambda: study(p), store, compute=compute, on_stale=on_stale)
-    )
+#: the record's tables as :class:`Tables` (see :func:`.page_records.table_loader`)
+load = table_loader(KIND, params, study, Tables)
 
 
 def main(argv: list[str] | None = None) -> int:
     """``python -m dyntorsion.studies.consistency_tables [--on-stale ...]`` (make data-studies)."""
-    import argparse
-
-    from ..store.results import ON_STALE
-
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--on-stale", choices=ON_STALE, default="recompute")
-    parser.add_argument("--store", default=None)
-    args = parser.parse_args(argv)
-    t = load(args.store, compute=True, on_stale=args.on_stale)
-    print(f"{KIND}: {t.counts()['triples']} triples, fits {len(t.fits())} cells")
-    return 0
+    return tables_main(
+        KIND,
+        __doc__.splitlines()[0],
+        load,
+        lambda t: f"{t.counts()['triples']} triples, fits {len(t.fits())} cells",
+        argv,
+    )
 
 
 if __name__ == "__main__":  # make data-studies

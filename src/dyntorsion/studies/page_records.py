@@ -22,6 +22,8 @@ __all__ = [
     "read_or_compute",
     "read_or_compute_at",
     "read_or_compute_frames",
+    "table_loader",
+    "tables_main",
     "frame_to_json",
     "frame_from_json",
     "main_by_level",
@@ -127,6 +129,51 @@ def read_or_compute_frames(
     return {
         name: frame_from_json(v["frame"]) if "frame" in v else v["value"] for name, v in rec.items()
     }
+
+
+def table_loader(
+    kind: str,
+    params: Callable[[], Mapping[str, Any]],
+    study: Callable[[Mapping[str, Any]], Mapping[str, Any]],
+    wrap: Callable[[dict[str, Any]], Any] = dict,
+) -> Callable[..., Any]:
+    """The ``load(store=None, *, compute=False, on_stale="recompute")`` of a table record
+    of ``kind``, keyed by ``params()`` and made by ``study``: its tables (through ``wrap``)
+    from ``store`` (default data/scenes), computed when missing or stale with
+    ``compute=True`` (a stale one refused with ``on_stale="error"``), refused otherwise
+    (:class:`LookupError` naming ``make data-studies``)."""
+
+    def load(store: Store | str | None = None, *, compute: bool = False,
+             on_stale: str = "recompute") -> Any:  # fmt: skip
+        """The record's tables from ``store``: computed when missing or stale with
+        ``compute=True``, else refused with a LookupError (:func:`table_loader`)."""
+        p = params()
+        tables = read_or_compute_frames(
+            kind, p, lambda: study(p), store, compute=compute, on_stale=on_stale
+        )
+        return wrap(tables)
+
+    return load
+
+
+def tables_main(
+    kind: str,
+    description: str,
+    load: Callable[..., Any],
+    summary: Callable[[Any], str],
+    argv: list[str] | None = None,
+) -> int:
+    """The command line of a table record (``make data-studies``): ``--on-stale`` and
+    ``--store``; ``load(store, compute=True, on_stale=...)`` and one line, ``kind`` and
+    ``summary`` of what it loaded."""
+    import argparse
+
+    parser = argparse.ArgumentParser(description=description)
+    parser.add_argument("--on-stale", choices=ON_STALE, default="recompute")
+    parser.add_argument("--store", default=None)
+    args = parser.parse_args(argv)
+    print(f"{kind}: {summary(load(args.store, compute=True, on_stale=args.on_stale))}")
+    return 0
 
 
 def read_or_compute(

@@ -14,9 +14,8 @@ from typing import Any
 
 import pandas as pd
 
-from ..store.results import Store
 from . import presets as P
-from .page_records import read_or_compute_frames
+from .page_records import table_loader, tables_main
 
 __all__ = ["KIND", "ENDINGS", "ending", "params", "study", "load"]
 
@@ -54,32 +53,23 @@ def study(p: dict[str, Any]) -> dict[str, Any]:
     return {"endings": pd.concat(frames, ignore_index=True)}
 
 
-def load(
-    store: Store | str | None = None, *, compute: bool = False, on_stale: str = "recompute"
-) -> pd.DataFrame:
-    """The list (columns ``preset, key, end``) from ``store`` (default data/scenes):
-    computed when missing or stale with ``compute=True`` (a stale one refused with
-    ``on_stale="error"``), refused otherwise (:class:`LookupError` naming ``make data-studies``)."""
-    p = params()
-    tables = read_or_compute_frames(
-        KIND, p, lambda: study(p), store, compute=compute, on_stale=on_stale
-    )
+def _endings(tables: dict[str, Any]) -> pd.DataFrame:
     return tables["endings"]
+
+
+#: the list (columns ``preset, key, end``; see :func:`.page_records.table_loader`)
+load = table_loader(KIND, params, study, _endings)
 
 
 def main(argv: list[str] | None = None) -> int:
     """``python -m dyntorsion.studies.preset_endings [--on-stale ...]`` (make data-studies)."""
-    import argparse
-
-    from ..store.results import ON_STALE
-
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--on-stale", choices=ON_STALE, default="recompute")
-    parser.add_argument("--store", default=None)
-    args = parser.parse_args(argv)
-    endings = load(args.store, compute=True, on_stale=args.on_stale)
-    print(f"{KIND}: {len(endings)} runs of {endings.preset.nunique()} presets")
-    return 0
+    return tables_main(
+        KIND,
+        __doc__.splitlines()[0],
+        load,
+        lambda e: f"{len(e)} runs of {e.preset.nunique()} presets",
+        argv,
+    )
 
 
 if __name__ == "__main__":  # make data-studies

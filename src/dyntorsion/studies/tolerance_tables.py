@@ -14,10 +14,9 @@ from typing import Any
 
 import pandas as pd
 
-from ..store.results import Store
 from . import solver_share as SS
 from . import tolerance_study as TS
-from .page_records import read_or_compute_frames
+from .page_records import table_loader, tables_main
 from .tolerance import READINGS
 
 __all__ = ["KIND", "RTOL", "Tables", "params", "study", "load"]
@@ -106,32 +105,15 @@ class Tables:
         return self._t["solver check cost"]
 
 
-def load(
-    store: Store | str | None = None, *, compute: bool = False, on_stale: str = "recompute"
-) -> Tables:
-    """The record from ``store`` (default data/scenes): computed when missing or stale
-    with ``compute=True`` (a stale one refused with ``on_stale="error"``), refused
-    otherwise (:class:`LookupError` naming ``make data-studies``)."""
-    p = params()
-    tables = read_or_compute_frames(
-        KIND, p, lambda: study(p), store, compute=compute, on_stale=on_stale
-    )
-    return Tables(tables)
+#: the record's tables as :class:`Tables` (see :func:`.page_records.table_loader`)
+load = table_loader(KIND, params, study, Tables)
 
 
 def main(argv: list[str] | None = None) -> int:
     """``python -m dyntorsion.studies.tolerance_tables [--on-stale ...]`` (make data-studies)."""
-    import argparse
-
-    from ..store.results import ON_STALE
-
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--on-stale", choices=ON_STALE, default="recompute")
-    parser.add_argument("--store", default=None)
-    args = parser.parse_args(argv)
-    t = load(args.store, compute=True, on_stale=args.on_stale)
-    print(f"{KIND}: {len(t.names)} tables")
-    return 0
+    return tables_main(
+        KIND, __doc__.splitlines()[0], load, lambda t: f"{len(t.names)} tables", argv
+    )
 
 
 if __name__ == "__main__":  # make data-studies
