@@ -47,6 +47,9 @@ Newton counts per step of the Fig 8 scene are printed too (they do not depend on
   tolerance causes; and the same-grid time per step (target: half the baseline's).
   ``tests/genalpha/test_newton_counts.py`` pins the straight phase's counts; why it takes 4.7
   corrections and not 1 or 2 is in its docstring and in ``benchmarks/profile_fig08.py``;
+* the engine's overhead: the wall time of the Fig 8 onset within 0.5 % and of the paced
+  sweep's runs over the time spent inside the compiled march (floor 1.3: set-up, explicit
+  operators and bookkeeping at most 30 % on top of the compiled work);
 * with ``--make-data`` (``make bench`` passes it): ``make data`` with every record current,
   one run, two processes (floor 90 s; only this checkout: it times the records, not an
   engine).
@@ -250,6 +253,40 @@ else:  # the baseline has none: its first-peak sweep
     res["fig10_paced_s"] = res["fig10_peak_s"]
     res["fig10_paced_err_pct"] = 0.0
     res["fig10_paced_steps"] = float("nan")
+# the engine's overhead over its compiled work: the wall time of a run over the time spent
+# inside the compiled march (set-up, explicit operators, bookkeeping and the onset reading
+# are the rest), for the Fig 8 onset within 0.5 % and the paced sweep's runs
+try:
+    import dyntorsion.genalpha.control as _ctl
+    import dyntorsion.genalpha.stepping as _st
+
+    _spent, _real = [0.0], _st.march
+
+    def _timed(*args):
+        t = time.perf_counter()
+        out = _real(*args)
+        _spent[0] += time.perf_counter() - t
+        return out
+
+    def overhead(f, n):
+        ratios = []
+        for _ in range(n):
+            _spent[0] = 0.0
+            t = time.perf_counter()
+            f()
+            ratios.append((time.perf_counter() - t) / _spent[0])
+        return statistics.median(ratios)
+
+    _st.march = _ctl.march = _timed
+    try:
+        res["fig8_fast_overhead"] = overhead(fast8, 7)
+        built = P.preset("fig10-paced")
+        built = built[::4] if quick else built
+        res["fig10_paced_overhead"] = overhead(lambda: [S.run_scene(sc) for sc in built], 3)
+    finally:
+        _st.march = _ctl.march = _real
+except Exception:  # an engine without these parts, or without paced presets
+    res["fig8_fast_overhead"] = res["fig10_paced_overhead"] = float("nan")
 try:
     from dyntorsion.beyond.predictions import estimate
 except ImportError:
@@ -356,6 +393,10 @@ def targets(now: dict) -> list[tuple[str, str, float | None]]:
          "fig10_paced_s", 0.3 * now["fig10_scenes"] / 16),
         ("the same in continuous time, 96 paced steps", "fig10_paced96_s",
          0.3 * now["fig10_scenes"] / 16),
+        ("engine overhead, Fig 8 onset within 0.5 %: wall / compiled march",
+         "fig8_fast_overhead", 1.3),
+        ("engine overhead, paced sweep's runs: wall / compiled march",
+         "fig10_paced_overhead", 1.3),
     ]  # fmt: skip
     return rows
 
