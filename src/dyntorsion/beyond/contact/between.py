@@ -201,7 +201,7 @@ class Between:
             self.worst_gap = max(self.worst_gap, abs(gap))
 
 
-def march_lagged(between, system, scene, grid, y0, left, right, q_seed):
+def run_lagged(between, system, scene, grid, y0, left, right, q_seed):
     """The lagged route through the engine (module docstring), checked every
     ``between.check_every`` steps: the run and how it ended."""
     check_every = between.check_every

@@ -43,7 +43,7 @@ from ...genalpha import ConvergenceError, Grid, Output, Problem, Sources, integr
 from ...genalpha.guard import real
 from ...genalpha.state import Substeps
 from ...model.cosserat import Cosserat
-from .between import Between, march_lagged
+from .between import Between, run_lagged
 from .budget import share
 from .damped import damped_system
 from .law import LawParams, lag_cost
@@ -288,7 +288,7 @@ def run_contact_scene(
                 raise
             run, stopped = err.run, f"failed: {err}"
     else:
-        run, stopped = march_lagged(between, system, scene, Grid(n, rod.L, dt, t_end), y0, left,
+        run, stopped = run_lagged(between, system, scene, Grid(n, rod.L, dt, t_end), y0, left,
                                     right, q_seed)  # fmt: skip
     between.finish(run.y, stopped == "t_end" and not c.implicit)
     h = {k: np.asarray(v) for k, v in between.hist.items()}
