@@ -17,7 +17,7 @@ so every Galerkin integral is a fixed matrix times a function of t::
 
 with K1 = -i C int phi'' phi', Kn = -i C int phi'' phi' sin(k_n s),
 G1 = -i rho J int phi' phi' (-(L - s)), Gn = -i rho J int phi' phi' cos(k_n s).
-:func:`tensors` integrates these once; :func:`march` runs the classical
+:func:`tensors` integrates these once; :func:`rk4_steps` runs the classical
 Runge-Kutta steps of :meth:`~.linear_stability.LateralModel.passage` over them.
 The seed's modal load F = sum_p R_p exp(i theta(s_p, t)) is evaluated at its
 points s_p from the series of theta (every quadrature point for a uniform seed,
@@ -35,7 +35,7 @@ import scipy.optimize
 
 from .._numba import jit
 
-__all__ = ["Passage", "Tensors", "tensors", "march", "run", "u3"]
+__all__ = ["Passage", "Tensors", "tensors", "rk4_steps", "run", "u3"]
 
 
 @dataclass
@@ -172,7 +172,7 @@ def u3(T, y):
 
 
 @jit
-def march(T, dt, n_steps, every, u_ref, ts, ys, last):
+def rk4_steps(T, dt, n_steps, every, u_ref, ts, ys, last):
     """Classical Runge-Kutta (order 4) from rest until ``|u3(L)| >= u_ref`` or n_steps.
 
     Samples every ``every`` steps (and the last) go to ``ts``/``ys``; ``last`` gets
@@ -267,7 +267,7 @@ def run(model, base, seed, dt: float, n_steps: int, samples: int, u_ref: float) 
     ts = np.empty(n_steps // every + 2)
     ys = np.empty((ts.size, 2 * m), dtype=complex)
     last = np.empty((4, 2 * m), dtype=complex)
-    nrec, status, t = march(T, dt, n_steps, every, float(u_ref), ts, ys, last)
+    nrec, status, t = rk4_steps(T, dt, n_steps, every, float(u_ref), ts, ys, last)
     if status < 0:
         raise RuntimeError(f"the linear passage blew up at t = {t:.6g} s: reduce dt={dt}")
     t_ref = _crossing(model, T, t, dt, last, u_ref) if status == 1 else math.nan
