@@ -62,10 +62,13 @@ class Substeps(NamedTuple):
 
 class StateSource(ABC):
     """A source of eq (7) that depends on the new level (module docstring).  ``substeps``
-    splits the coupled steps; ``max_iterations`` caps their Newton iterations."""
+    splits the coupled steps; ``max_iterations`` caps their Newton iterations; ``failure``
+    words the error of a step that fails at the shortest substep."""
 
     substeps: Substeps = Substeps(1)
     max_iterations: int = 12
+    #: the reason of the error raised when a coupled step fails at the shortest substep
+    failure: str = "Newton did not converge (coupled step) at the shortest substep"
 
     @abstractmethod
     def level(self, h: float, con) -> Any:

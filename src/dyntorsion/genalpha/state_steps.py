@@ -125,8 +125,7 @@ class StateSteps:
 
     def _failed(self, t_new: float, h: float) -> ConvergenceError:
         return ConvergenceError(t_new, self.steps + 1, self.opts.max_iter, float("nan"),
-                                "Newton did not converge (implicit contact step) at the "
-                                "shortest substep", dt=h)  # fmt: skip
+                                self.source.failure, dt=h)  # fmt: skip
 
     def chunk(self, k0: int, k1: int) -> tuple[int, ConvergenceError | None]:
         """The fixed-grid steps k0 to k1: the levels completed, and the error of a step

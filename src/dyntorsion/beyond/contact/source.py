@@ -30,6 +30,7 @@ class ContactSource(StateSource):
     is split."""
 
     max_iterations = 12
+    failure = "Newton did not converge (implicit contact step) at the shortest substep"
 
     def __init__(self, between, q_seed: np.ndarray, y0: np.ndarray, substeps: Substeps):
         self.between, self.substeps = between, substeps
