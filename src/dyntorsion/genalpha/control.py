@@ -20,9 +20,9 @@ from typing import Any
 import numpy as np
 
 from .discrete import constants
-from .march import NO_GATE, Forcing, Gate, Halt, Recording, StepContext, closes, march
+from .march import NO_GATE, Forcing, Gate, Halt, Recording, closes, march
 from .newton import REASONS, ConvergenceError, Status
-from .parts import Grid
+from .plan import RunParts
 from .scheme import StepControl
 from .watch import NO_WATCH, Watch, never
 
@@ -42,17 +42,8 @@ class Adaptive:
     residual); ``substeps[i]`` is the number of steps accepted on (t_i, t_{i+1}).
     """
 
-    def __init__(
-        self,
-        control: StepControl,
-        system,
-        scheme,
-        grid: Grid,
-        left,
-        right,
-        levels,
-        ctx: StepContext,
-    ):
+    def __init__(self, control: StepControl, parts: RunParts):
+        system, scheme, grid, left, right, levels, ctx = parts
         self.control, self.system, self.scheme = control, system, scheme
         self.ds, self.dt, self.left, self.right = grid.ds, grid.dt, left, right
         self.levels, self.times, self.src = levels, levels.times, levels.src

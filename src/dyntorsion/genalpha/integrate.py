@@ -15,7 +15,7 @@ from .guard import check_memory, check_time, check_time_grid
 from .march import StepContext, full_newton_iterations
 from .newton import Newton
 from .parts import Grid, Output, Problem, Stops
-from .plan import Levels, Plan, Source, gate_of, initial_rate
+from .plan import Levels, Plan, RunParts, Source, gate_of, initial_rate
 from .recording import Recorder
 from .run import Run
 from .scheme import Scheme
@@ -110,7 +110,7 @@ def integrate(
     plan = Plan.of(system, grid, n_steps, output, stops)
     levels = Levels.of(times, left, right, src)
     ctx = StepContext(con, work, fac, newton.options())
-    stepper = Stepper(system, scheme, grid, left, right, levels, ctx, sources.state)
+    stepper = Stepper(RunParts(system, scheme, grid, left, right, levels, ctx), sources.state)
     recorder = Recorder(plan, times, y0, record_every)
     stopper = Stopper(stop, gate_of(system, stops.gate, ds, stop), plan, n_steps, work.y_old)
     stopped, failure, done = "t_end", None, 0

@@ -19,14 +19,13 @@ from .march import (
     WHY,
     Halt,
     Recording,
-    StepContext,
     closed,
     gauge,
     make_gate,
     march,
 )
 from .newton import REASONS, Status
-from .parts import Grid
+from .plan import RunParts
 from .scheme import LongSteps
 from .watch import NO_WATCH, never
 
@@ -44,7 +43,8 @@ class LongPhase:
     indices i of the intervals (t_i, t_{i+1}) on which a long step ended.
     """
 
-    def __init__(self, spec: LongSteps, system, scheme, grid: Grid, left, right, ctx: StepContext):
+    def __init__(self, spec: LongSteps, parts: RunParts):
+        system, scheme, grid, left, right, _, ctx = parts
         work = ctx.work
         self.spec, self.factor, self.work, self.system = spec, spec.factor, work, system
         self.con = constants(system, scheme, grid.ds, spec.factor * grid.dt, left, right)

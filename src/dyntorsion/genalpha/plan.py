@@ -8,11 +8,12 @@ from __future__ import annotations
 import bisect
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any, NamedTuple
 
 import numpy as np
 
 from .initial import consistent_rates
-from .march import NO_GATE, Forcing, Gate, make_gate
+from .march import NO_GATE, Forcing, Gate, StepContext, make_gate
 from .watch import CompiledStop
 
 __all__ = ["QUIET_CHUNK", "Levels", "Plan", "Source", "gate_of", "initial_rate"]
@@ -82,6 +83,20 @@ class Levels:
             self.q_time[index],
             self.src.field_at(self.times[index]),
         )
+
+
+class RunParts(NamedTuple):
+    """What the stepping parts of one run share (:mod:`.stepping`): the model ``system``,
+    the ``scheme``, the ``grid``, the boundary rows ``left`` and ``right``, the boundary
+    values and sources at the fixed levels ``levels`` and the step's context ``ctx``."""
+
+    system: Any
+    scheme: Any
+    grid: Any
+    left: Any
+    right: Any
+    levels: Levels
+    ctx: StepContext
 
 
 def initial_rate(system, y0, ds, y_t0, source: Source, t0) -> np.ndarray:

@@ -21,6 +21,7 @@ from .._numba import JACOBIAN_SIGNATURE, LOAD_SIGNATURE
 from .discrete import constants
 from .march import StepContext
 from .newton import ConvergenceError
+from .plan import RunParts
 from .state import (
     Address,
     StateSource,
@@ -46,7 +47,8 @@ class StateSteps:
     :class:`~.state.StateSource` (module docstring); it keeps the source at the old level
     and the cost of the coupled steps (:meth:`summary`)."""
 
-    def __init__(self, source: StateSource, system, scheme, grid, left, right, levels, ctx):
+    def __init__(self, source: StateSource, parts: RunParts):
+        system, scheme, grid, left, right, levels, ctx = parts
         self.source, self.system, self.scheme = source, system, scheme
         self.grid, self.left, self.right, self.ctx = grid, left, right, ctx
         self.w, self.fac = ctx.work, ctx.fac

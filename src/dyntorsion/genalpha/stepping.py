@@ -12,37 +12,31 @@ import numpy as np
 
 from .control import Adaptive
 from .long import LongPhase
-from .march import Halt, Recording, StepContext, march
+from .march import Halt, Recording, march
 from .newton import REASONS, ConvergenceError, Status
-from .parts import Grid
-from .plan import Levels, Plan
+from .plan import Plan, RunParts
 from .state_steps import StateSteps
 
 __all__ = ["Stepper"]
 
 
 class Stepper:
-    """The steppers of one run, sharing its factors and work arrays.
+    """The steppers of one run, sharing its factors and work arrays: ``parts`` is the
+    run's :class:`~.plan.RunParts`; ``state`` a :class:`~.state.StateSource` of its sources,
+    or None."""
 
-    ``system``, ``scheme``: the model and the scheme of the run; ``grid``: its space-time
-    grid; ``left``, ``right``: its boundary rows; ``levels``: the boundary values and
-    sources at the levels of the fixed grid; ``ctx``: the :class:`~.march.StepContext`
-    every step shares.
-    """
-
-    def __init__(
-        self, system, scheme, grid: Grid, left, right, levels: Levels, ctx: StepContext, state=None
-    ) -> None:
-        self.system, self.levels, self.ctx = system, levels, ctx
+    def __init__(self, parts: RunParts, state=None) -> None:
+        self.system, self.levels, self.ctx = parts.system, parts.levels, parts.ctx
+        scheme = parts.scheme
         self.coupled = None
         if state is not None:
-            self.coupled = StateSteps(state, system, scheme, grid, left, right, levels, ctx)
+            self.coupled = StateSteps(state, parts)
         self.adaptive = None
         if scheme.control is not None:
-            self.adaptive = Adaptive(scheme.control, system, scheme, grid, left, right, levels, ctx)
+            self.adaptive = Adaptive(scheme.control, parts)
         self.long = None
         if scheme.long_steps is not None:
-            self.long = LongPhase(scheme.long_steps, system, scheme, grid, left, right, ctx)
+            self.long = LongPhase(scheme.long_steps, parts)
 
     def end(self, k0: int, k1: int, plan: Plan) -> tuple[int, bool]:
         """Where the chunk from level k0 ends (at most k1), and whether in long steps."""
