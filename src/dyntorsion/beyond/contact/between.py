@@ -206,7 +206,20 @@ def run_lagged(between, system, scene, grid, y0, left, right, q_seed):
     ``between.check_every`` steps: the run and how it ended."""
     check_every = between.check_every
     try:
-        run = integrate(Problem(system, y0, left, right, sources=Sources(separable=(q_seed, None), field=between.field)), grid, scheme=scene.scheme, newton=scene.newton, output=Output(record=RECORDED, every=check_every, progress=False), stops=Stops(test=between, check_every=1))  # fmt: skip
+        run = integrate(
+            Problem(
+                system,
+                y0,
+                left,
+                right,
+                sources=Sources(separable=(q_seed, None), field=between.field),
+            ),
+            grid,
+            scheme=scene.scheme,
+            newton=scene.newton,
+            output=Output(record=RECORDED, every=check_every, progress=False),
+            stops=Stops(test=between, check_every=1),
+        )
         return run, run.stopped
     except ConvergenceError as err:
         if err.run is None:
