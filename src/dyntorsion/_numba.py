@@ -259,8 +259,8 @@ class _KernelCompilation(event.Listener):
     formatting costs about 5 s of a first run's compilation.  numba reads ``config.OPT``
     as it optimises each library, so both are set for the outermost compilation of one of
     ours (under numba's compiler lock) and restored after it; other code compiles as numba
-    would (a slice assignment compiled before ours in the same process and with the same
-    ranks may keep the generic message)."""
+    would (except that a slice assignment of the same ranks compiled later in the same
+    process reuses numba's cached generic message)."""
 
     def __init__(self) -> None:
         self.depth, self.saved, self.template = 0, None, None

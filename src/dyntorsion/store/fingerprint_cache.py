@@ -72,9 +72,13 @@ def write(name: str, fingerprint: str) -> None:
         return
     data = {**_load(path), name: fingerprint}
     try:
-        with tempfile.NamedTemporaryFile("w", dir=path.parent, delete=False, suffix=".tmp") as f:
+        fd, tmp = tempfile.mkstemp(dir=path.parent, suffix=".tmp")
+    except OSError:
+        return
+    try:
+        with os.fdopen(fd, "w") as f:
             json.dump(data, f, sort_keys=True)
-        os.replace(f.name, path)
+        os.replace(tmp, path)
     except OSError:
         with contextlib.suppress(OSError):
-            os.unlink(f.name)
+            os.unlink(tmp)

@@ -23,13 +23,13 @@ from ..buckling import detect_onset, simulate
 from ..buckling.scene import Scene, run_scene
 from ..genalpha import LongSteps, Newton, Scheme
 from ..model.rod import Rod
-from ..store.results import Store, json_ready
+from ..store.results import json_ready
 from ..waves import LinearLoading, SmoothRelease, solve
 from . import fidelity
 from . import presets as P
 from . import tolerance as TOL
 from . import wave_convergence as WC
-from .page_records import main_by_level, read_or_compute_at
+from .page_records import level_loader, main_by_level
 
 __all__ = ["KIND", "params", "study", "load"]
 
@@ -248,17 +248,8 @@ def study(p: dict[str, Any]) -> dict[str, Any]:
     })  # fmt: skip
 
 
-def load(
-    level: str | None = None,
-    store: Store | str | None = None,
-    *,
-    compute: bool = False,
-    on_stale: str = "recompute",
-) -> dict[str, Any]:
-    """The record at fidelity ``level`` (default :func:`~.fidelity.level`) from ``store``
-    (default data/scenes): computed when missing or stale with ``compute=True`` (a stale
-    one refused with ``on_stale="error"``), refused otherwise (:class:`LookupError`)."""
-    return read_or_compute_at(KIND, level, params, study, store, compute=compute, on_stale=on_stale)
+#: the record at a fidelity level (see :func:`.page_records.level_loader`)
+load = level_loader(KIND, params, study)
 
 
 def _summary(runs: dict[str, Any]) -> str:

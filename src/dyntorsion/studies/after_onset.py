@@ -15,9 +15,9 @@ from ..buckling import detect_onset, simulate
 from ..buckling.postbuckling import contact_measures, energy_balance
 from ..buckling.scene import Scene, simulate_scene
 from ..genalpha import Scheme, StepControl
-from ..store.results import Store, json_ready
+from ..store.results import json_ready
 from . import fidelity
-from .page_records import main_by_level, read_or_compute_at
+from .page_records import level_loader, main_by_level
 from .presets import FIG10_RATES, SEEDS
 
 __all__ = ["KIND", "RATES", "params", "study", "load"]
@@ -109,17 +109,8 @@ def study(p: dict[str, Any]) -> dict[str, Any]:
     })  # fmt: skip
 
 
-def load(
-    level: str | None = None,
-    store: Store | str | None = None,
-    *,
-    compute: bool = False,
-    on_stale: str = "recompute",
-) -> dict[str, Any]:
-    """The record at fidelity ``level`` (default :func:`~.fidelity.level`) from ``store``
-    (default data/scenes): computed when missing or stale with ``compute=True`` (a stale
-    one refused with ``on_stale="error"``), refused otherwise (:class:`LookupError`)."""
-    return read_or_compute_at(KIND, level, params, study, store, compute=compute, on_stale=on_stale)
+#: the record at a fidelity level (see :func:`.page_records.level_loader`)
+load = level_loader(KIND, params, study)
 
 
 if __name__ == "__main__":  # make data-studies

@@ -21,6 +21,7 @@ from . import fidelity
 __all__ = [
     "read_or_compute",
     "read_or_compute_at",
+    "level_loader",
     "read_or_compute_frames",
     "table_loader",
     "tables_main",
@@ -96,9 +97,7 @@ def frame_from_json(d: Mapping[str, Any]) -> pd.DataFrame:
     """The DataFrame :func:`frame_to_json` wrote (equal to the original, dtypes and all)."""
     data = [[_uncell(v) for v in row] for row in d["data"]]
     index, columns = _axis_from_json(d["index"]), _axis_from_json(d["columns"])
-    frame = pd.DataFrame(data, index=index, columns=columns, dtype=object)
-    if not data:
-        frame = pd.DataFrame(index=index, columns=columns, dtype=object)
+    frame = pd.DataFrame(data or None, index=index, columns=columns, dtype=object)
     for j, dtype in enumerate(d["dtypes"]):
         frame.isetitem(j, frame.iloc[:, j].astype(dtype))
     return frame
@@ -220,6 +219,26 @@ def read_or_compute_at(
     return read_or_compute(
         kind, p, lambda: study(p), store, compute=compute, on_stale=on_stale, what=f" at {level}"
     )
+
+
+def level_loader(
+    kind: str,
+    params: Callable[[str], Mapping[str, Any]],
+    study: Callable[[Mapping[str, Any]], Mapping[str, Any]],
+) -> Callable[..., dict[str, Any]]:
+    """The ``load(level=None, store=None, *, compute=False, on_stale="recompute")`` of a page
+    record kept per fidelity level (:func:`read_or_compute_at` of ``kind``, ``params`` and
+    ``study``)."""
+
+    def load(level: str | None = None, store: Store | str | None = None, *,
+             compute: bool = False, on_stale: str = "recompute") -> dict[str, Any]:  # fmt: skip
+        """The record at fidelity ``level`` (default :func:`~.fidelity.level`) from ``store``
+        (default data/scenes): computed when missing or stale with ``compute=True`` (a stale
+        one refused with ``on_stale="error"``), refused otherwise (:class:`LookupError`)."""
+        return read_or_compute_at(kind, level, params, study, store, compute=compute,
+                                  on_stale=on_stale)  # fmt: skip
+
+    return load
 
 
 def main_by_level(
