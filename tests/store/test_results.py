@@ -59,11 +59,32 @@ def test_write_is_atomic_and_leaves_no_temporary(store, monkeypatch):
     def boom(*args, **kwargs):
         raise KeyboardInterrupt  # the process is stopped in the middle of the write
 
-    monkeypatch.setattr(R.json, "dump", boom)
+    monkeypatch.setattr(R.os, "fsync", boom)
     with pytest.raises(KeyboardInterrupt):
         store.save("demo", {**PARAMS, "a": 3.2}, RESULT)
     assert len(list(store.root.iterdir())) == 1  # neither the record nor its temporary
     assert store.load("demo", {**PARAMS, "a": 3.2}) is None
+
+
+def test_a_script_record_is_written_whole_and_readable_by_all(tmp_path, monkeypatch):
+    """The records of data/contact and data/bench are written as the store's are: mode
+    0o644 whatever the temporary's, and a write cut short leaves the old record and no
+    temporary."""
+    from dyntorsion.studies.contact.records import write
+
+    out = tmp_path / "bench" / "scene.json"
+    write(out, {"runs": [1.5, 2.5]})
+    assert out.stat().st_mode & 0o777 == 0o644
+    assert json.loads(out.read_text()) == {"runs": [1.5, 2.5]}
+
+    def boom(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(R.os, "fsync", boom)
+    with pytest.raises(KeyboardInterrupt):
+        write(out, {"runs": [9.0]})
+    assert json.loads(out.read_text()) == {"runs": [1.5, 2.5]}
+    assert [p.name for p in out.parent.iterdir()] == ["scene.json"]
 
 
 def test_leftover_temporary_is_ignored(store):

@@ -156,10 +156,10 @@ def provenance(wall_time: float | None = None, kind: str | None = None) -> dict[
     }
 
 
-def write_json(path: str | os.PathLike[str], obj: Any) -> Path:
-    """Write ``obj`` as JSON atomically: a temporary file in the same folder, flushed
-    to disk, then renamed over ``path``; on any failure the temporary is removed and
-    ``path`` is untouched."""
+def write_text(path: str | os.PathLike[str], text: str) -> Path:
+    """Write ``text`` to ``path`` atomically: a temporary file in the same folder, flushed
+    to disk, made readable by all (mode 0o644, as a record is shared), then renamed over
+    ``path``; on any failure the temporary is removed and ``path`` is untouched."""
     target = Path(path)
     target.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(
@@ -167,8 +167,7 @@ def write_json(path: str | os.PathLike[str], obj: Any) -> Path:
     )
     try:
         with os.fdopen(fd, "w") as fh:
-            json.dump(obj, fh, indent=1, sort_keys=True, allow_nan=False)
-            fh.write("\n")
+            fh.write(text)
             fh.flush()
             os.fsync(fh.fileno())
         os.chmod(tmp, 0o644)
@@ -177,6 +176,12 @@ def write_json(path: str | os.PathLike[str], obj: Any) -> Path:
         Path(tmp).unlink(missing_ok=True)
         raise
     return target
+
+
+def write_json(path: str | os.PathLike[str], obj: Any) -> Path:
+    """Write ``obj`` as JSON (indented by one, keys sorted, no NaN) with :func:`write_text`:
+    atomically, ``path`` untouched on any failure."""
+    return write_text(path, json.dumps(obj, indent=1, sort_keys=True, allow_nan=False) + "\n")
 
 
 # ----------------------------------------------------------------- the store

@@ -11,15 +11,13 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
-import tempfile
 from collections.abc import Callable, Mapping, Sequence
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 
 from ...store.fingerprint import script_provenance, why_stale
 from ...store.location import checkout
-from ...store.results import json_ready
+from ...store.results import json_ready, write_text
 
 __all__ = ["DATA", "provenance", "result_json", "write", "resume", "run_missing", "run_script",
            "summary"]  # fmt: skip
@@ -37,13 +35,9 @@ def result_json(result: dict) -> str:
 
 
 def write(out: Path, record: dict, indent: int | None = None) -> None:
-    """Write ``record`` to ``out`` as JSON (indented by ``indent``), atomically."""
-    out.parent.mkdir(parents=True, exist_ok=True)
-    with tempfile.NamedTemporaryFile(
-        "w", dir=out.parent, prefix=f".{out.stem}.", delete=False
-    ) as f:
-        json.dump(record, f, indent=indent)
-    os.replace(f.name, out)
+    """Write ``record`` to ``out`` as JSON (indented by ``indent``), atomically
+    (:func:`dyntorsion.store.results.write_text`: ``out`` untouched on any failure)."""
+    write_text(out, json.dumps(record, indent=indent))
 
 
 def resume(out: Path, record: dict, keys: Sequence[str] = ("params", "code")) -> dict:
