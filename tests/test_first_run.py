@@ -131,3 +131,25 @@ def test_a_pickled_declared_kernel_keeps_its_one_signature():
 
 def _triple(x):
     return 3.0 * x
+
+
+def test_the_notice_is_one_whole_line_in_one_write(monkeypatch):
+    """Workers of a sweep that compile at once share stderr: each notice is written in one
+    call, so two of them never run together on one line."""
+
+    class Stream:
+        def __init__(self):
+            self.writes = []
+
+        def write(self, text):
+            self.writes.append(text)
+
+        def flush(self):
+            pass
+
+    stream = Stream()
+    monkeypatch.setattr(sys, "stderr", stream)
+    _numba.announce_cold_cache()
+    assert len(stream.writes) == 1
+    assert stream.writes[0].endswith("\n") and stream.writes[0].count("\n") == 1
+    assert NOTICE in stream.writes[0]

@@ -205,13 +205,13 @@ class _ColdCacheNotice(event.Listener):
 
 
 def announce_cold_cache() -> None:
-    """Print the cold-cache notice on stderr (see :class:`_ColdCacheNotice`)."""
-    print(
+    """Print the cold-cache notice on stderr (see :class:`_ColdCacheNotice`), as one write:
+    the workers of a sweep that compile at once print whole lines."""
+    sys.stderr.write(
         f"dyntorsion: compiling the engine's kernels, once: about {COLD_COMPILE_SECONDS} s "
-        "(`dyntorsion warmup` compiles all of them ahead)",
-        file=sys.stderr,
-        flush=True,
+        "(`dyntorsion warmup` compiles all of them ahead)\n"
     )
+    sys.stderr.flush()
 
 
 event.register("numba:compile", _ColdCacheNotice())
