@@ -94,6 +94,16 @@ from dyntorsion import buckling as b
 from dyntorsion.buckling import scene as S
 from dyntorsion.studies import presets as P
 from dyntorsion.beyond.linear_stability import LateralModel
+try:
+    from dyntorsion.buckling import Scene
+    simulate = b.simulate
+except ImportError:  # engines before simulate(scene) took the scene's fields as keywords
+
+    def Scene(**fields):
+        return fields
+
+    def simulate(scene, **options):
+        return b.simulate(**scene, **options)
 try:  # the integration's settings in one part (older engines took them as keywords)
     from dyntorsion.beyond.linear_stability import PassageSteps
     SHORT_PASSAGE = {"steps": PassageSteps(t_end=0.1)}
@@ -106,9 +116,9 @@ def median(f, n):
         t = time.perf_counter(); f(); out.append(time.perf_counter() - t)
     return statistics.median(out)
 
-b.simulate(Scene(a=1.6, n_cells=10, dt=0.05, t_end=0.2, kappa0=0.0))
+simulate(Scene(a=1.6, n_cells=10, dt=0.05, t_end=0.2, kappa0=0.0))
 res = {}
-fig8 = lambda: b.detect_onset(b.simulate(Scene(a=1.6, n_cells=50, dt=0.02, t_end=18.0, kappa0=0.0)))
+fig8 = lambda: b.detect_onset(simulate(Scene(a=1.6, n_cells=50, dt=0.02, t_end=18.0, kappa0=0.0)))
 res["fig8_onset_s"] = median(fig8, 3)
 res["fig8_t_c"] = fig8().t_c
 from dyntorsion.genalpha import Newton
@@ -117,11 +127,11 @@ for stop in ("correction", "contraction"):
         nw = Newton(stopping=stop)
     except TypeError:
         nw = Newton()
-    run = lambda: b.detect_onset(b.simulate(Scene(a=1.6, n_cells=50, dt=0.02, t_end=18.0, newton=nw, kappa0=0.0)))
+    run = lambda: b.detect_onset(simulate(Scene(a=1.6, n_cells=50, dt=0.02, t_end=18.0, newton=nw, kappa0=0.0)))
     res[f"fig8_{stop}_s"] = median(run, 3)
     onset = run()
     res[f"fig8_{stop}_t_c"] = onset.t_c
-    sim = b.simulate(Scene(a=1.6, n_cells=50, dt=0.02, t_end=18.0, newton=nw, kappa0=0.0)).run
+    sim = simulate(Scene(a=1.6, n_cells=50, dt=0.02, t_end=18.0, newton=nw, kappa0=0.0)).run
     res[f"fig8_{stop}_per_step"] = [
         float(sim.iterations.sum() / sim.steps),
         float(sim.residual_evaluations.sum() / sim.steps),
@@ -132,7 +142,7 @@ for stop in ("correction", "contraction"):
 PHASES = [(0.0, 5.0), (5.0, 10.0), (10.0, 13.0), (13.0, 15.0), (15.0, 18.01)]
 def by_phase(newton):
     import numpy as np
-    sim = b.simulate(Scene(a=1.6, n_cells=50, dt=0.02, t_end=18.0, newton=newton, kappa0=0.0))
+    sim = simulate(Scene(a=1.6, n_cells=50, dt=0.02, t_end=18.0, newton=newton, kappa0=0.0))
     r = sim.run
     t = 0.02 * np.arange(1, r.steps + 1)
     its = np.asarray(r.iterations)[: r.steps]
@@ -145,7 +155,7 @@ def by_phase(newton):
     }
 res["newton_ladder"] = {f"{tol:g}": by_phase(Newton(tol=tol)) for tol in (1e-10, 1e-8, 1e-6)}
 res["newton_ladder"]["full"] = by_phase(Newton(reuse=False))
-same = lambda: b.simulate(Scene(a=1.6, n_cells=50, dt=0.02, t_end=18.0, kappa0=0.0), stop_at_contact=False)
+same = lambda: simulate(Scene(a=1.6, n_cells=50, dt=0.02, t_end=18.0, kappa0=0.0), stop_at_contact=False)
 res["fig8_us_per_step"] = 1e6 * median(same, 7) / 900
 # the fastest Fig 8 run to its onset within 0.5 % of the converged t_c (N = 400,
 # dt = 0.00125 s, the accuracy-fig08 ladder): N = 50, dt = 0.05 s, Newton tol 1e-6, ended after the
@@ -153,9 +163,9 @@ res["fig8_us_per_step"] = 1e6 * median(same, 7) / 900
 def fast8():
     kw = dict(a=1.6, kappa0=0.0, n_cells=50, dt=0.05, t_end=18.0, newton=Newton(tol=1e-6))
     try:
-        return b.detect_onset(b.simulate(Scene(until="first-peak", **kw)))
+        return b.detect_onset(simulate(Scene(until="first-peak", **kw)))
     except TypeError:
-        return b.detect_onset(b.simulate(Scene(**kw)))
+        return b.detect_onset(simulate(Scene(**kw)))
 try:
     res["fig8_fast_s"] = median(fast8, 5)
     res["fig8_fast_t_c"] = fast8().t_c
@@ -167,7 +177,7 @@ except Exception:
 # N = 25, 50 x dt = 0.05..0.2 s x tol 1e-10..1e-4 on 2026-11-27, docs/benchmarks.md)
 def fast8c():
     kw = dict(a=1.6, kappa0=0.0, n_cells=50, dt=0.15, t_end=18.0, newton=Newton(tol=1e-6))
-    return b.detect_onset(b.simulate(Scene(until="first-peak", **kw))).t_c_continuous
+    return b.detect_onset(simulate(Scene(until="first-peak", **kw))).t_c_continuous
 try:
     res["fig8_fast_cont_s"] = median(fast8c, 5)
     res["fig8_fast_cont_t_c"] = fast8c()
@@ -178,7 +188,7 @@ except (TypeError, AttributeError):  # the baseline has no continuous reading
 # factorisations, 491 -> 597 corrections, 28 -> 21 ms; t_c +0.269 -> +0.262 %)
 def fast8c_half():
     kw = dict(a=1.6, kappa0=0.0, n_cells=50, dt=0.15, t_end=18.0, newton=Newton(tol=1e-6, theta_reuse=0.5))
-    return b.detect_onset(b.simulate(Scene(until="first-peak", **kw))).t_c_continuous
+    return b.detect_onset(simulate(Scene(until="first-peak", **kw))).t_c_continuous
 try:
     res["fig8_fast_half_s"] = median(fast8c_half, 5)
     res["fig8_fast_half_t_c"] = fast8c_half()
@@ -302,10 +312,10 @@ model.passage(1.6, 10.0, 1e-8, waves=False, **SHORT_PASSAGE)
 res["linear_waves_s"] = median(lambda: model.passage(1.6, 10.0, 1e-8, waves=True), 1 if quick else 3)
 res["linear_ramp_s"] = median(lambda: model.passage(1.6, 10.0, 1e-8, waves=False), 3)
 res["sim_fig10_a1.6_s"] = median(
-    lambda: b.simulate(Scene(a=1.6, kappa0=10.0, n_cells=100, dt=0.005, t_end=10.0)), 1 if quick else 3)
+    lambda: simulate(Scene(a=1.6, kappa0=10.0, n_cells=100, dt=0.005, t_end=10.0)), 1 if quick else 3)
 per = {}
 for n in (50, 200, 800, 1600):
-    run = b.simulate(Scene(a=1.6, n_cells=n, dt=0.005, t_end=0.1, kappa0=0.0))
+    run = simulate(Scene(a=1.6, n_cells=n, dt=0.005, t_end=0.1, kappa0=0.0))
     per[n] = 1e6 * run.run.wall_time / run.run.steps / (n + 1)
 res["us_per_node_step"] = per
 print(json.dumps(res))
@@ -320,7 +330,17 @@ PER_STEP = r"""
 import statistics, sys, time
 sys.path.insert(0, sys.argv[1])
 from dyntorsion import buckling as b
-run = lambda: b.simulate(Scene(a=1.6, n_cells=50, dt=0.02, t_end=18.0, kappa0=0.0), stop_at_contact=False)
+try:
+    from dyntorsion.buckling import Scene
+    simulate = b.simulate
+except ImportError:  # engines before simulate(scene) took the scene's fields as keywords
+
+    def Scene(**fields):
+        return fields
+
+    def simulate(scene, **options):
+        return b.simulate(**scene, **options)
+run = lambda: simulate(Scene(a=1.6, n_cells=50, dt=0.02, t_end=18.0, kappa0=0.0), stop_at_contact=False)
 run()
 out = []
 for _ in range(5):
