@@ -36,14 +36,20 @@ Where each part lives:
 * :mod:`.scheme` -- the parameters of eq (13) and the step's coefficients;
 * :mod:`.system` -- the model (M, K, F, dF, scales) and the boundary rows of eq (7);
 * :mod:`.discrete` -- the residual of eq (10)-(12), its Jacobian and LU factors;
+* :mod:`.abd` -- the almost-block-diagonal LU of that Jacobian;
 * :mod:`.newton` -- the damped Newton solve of one step;
 * :mod:`.march` -- the compiled time march and the rate update of eq (11);
+* :mod:`.stepping` -- how a chunk of levels is stepped (fixed, controlled or long);
 * :mod:`.control` -- step-size control: rejected steps retried with half the step;
 * :mod:`.long` -- long steps while the solution is quiet;
-* :mod:`.watch` -- stop tests compiled, consulted by the march itself;
-* :mod:`.parts` -- the parts of a run: grid, sources, output, stops;
-* :mod:`.integrate` -- the driver (validation, sources, initial rate, recording,
-  chunks between checks) and the :class:`Run`;
+* :mod:`.state`, :mod:`.state_steps`, :mod:`.low_rank` -- sources that depend on the
+  state (contact): their Jacobian in the band and in rank-one terms, and their steps;
+* :mod:`.watch`, :mod:`.stopping` -- stop tests, compiled or in Python;
+* :mod:`.parts` -- the parts of a run: problem, grid, sources, output, stops;
+* :mod:`.guard` -- checks before a run: its time grid, memory and duration;
+* :mod:`.integrate` -- the driver (validation, sources, initial rate, chunks between
+  checks), with :mod:`.plan` (its bookkeeping), :mod:`.recording` and :mod:`.run`
+  (the :class:`Run` it returns);
 * :mod:`.initial` -- consistent initial rates and states.
 """
 
