@@ -86,14 +86,9 @@ def standard_error_pct(preset: str) -> float:
     return 100 * abs(ladder_t_c(preset, 100, 0.005) / ladder_t_c(preset, 400, 0.00125) - 1)
 
 
-MEASURE = r"""
-import json, statistics, sys, time
-sys.path.insert(0, sys.argv[1])
-quick = sys.argv[2] == "1"
-from dyntorsion import buckling as b
-from dyntorsion.buckling import scene as S
-from dyntorsion.studies import presets as P
-from dyntorsion.beyond.linear_stability import LateralModel
+#: the measuring code's Scene and simulate on this engine or on an older one (the baseline's
+#: simulate took the scene's fields as keywords); ``b`` is ``dyntorsion.buckling``
+SCENE_COMPAT = r"""
 try:
     from dyntorsion.buckling import Scene
     simulate = b.simulate
@@ -104,7 +99,20 @@ except ImportError:  # engines before simulate(scene) took the scene's fields as
 
     def simulate(scene, **options):
         return b.simulate(**scene, **options)
-try:  # the integration's settings in one part (older engines took them as keywords)
+"""
+
+MEASURE = (
+    r"""
+import json, statistics, sys, time
+sys.path.insert(0, sys.argv[1])
+quick = sys.argv[2] == "1"
+from dyntorsion import buckling as b
+from dyntorsion.buckling import scene as S
+from dyntorsion.studies import presets as P
+from dyntorsion.beyond.linear_stability import LateralModel
+"""
+    + SCENE_COMPAT
+    + r"""try:  # the integration's settings in one part (older engines took them as keywords)
     from dyntorsion.beyond.linear_stability import PassageSteps
     SHORT_PASSAGE = {"steps": PassageSteps(t_end=0.1)}
 except ImportError:
@@ -320,33 +328,28 @@ for n in (50, 200, 800, 1600):
 res["us_per_node_step"] = per
 print(json.dumps(res))
 """
+)
 
 
 def measure(src: Path, quick: bool) -> dict:
     return run_json(MEASURE, src, "1" if quick else "0")
 
 
-PER_STEP = r"""
+PER_STEP = (
+    r"""
 import statistics, sys, time
 sys.path.insert(0, sys.argv[1])
 from dyntorsion import buckling as b
-try:
-    from dyntorsion.buckling import Scene
-    simulate = b.simulate
-except ImportError:  # engines before simulate(scene) took the scene's fields as keywords
-
-    def Scene(**fields):
-        return fields
-
-    def simulate(scene, **options):
-        return b.simulate(**scene, **options)
-run = lambda: simulate(Scene(a=1.6, n_cells=50, dt=0.02, t_end=18.0, kappa0=0.0), stop_at_contact=False)
+"""
+    + SCENE_COMPAT
+    + r"""run = lambda: simulate(Scene(a=1.6, n_cells=50, dt=0.02, t_end=18.0, kappa0=0.0), stop_at_contact=False)
 run()
 out = []
 for _ in range(5):
     t = time.perf_counter(); r = run(); out.append((time.perf_counter() - t) / r.run.steps)
 print(1e6 * statistics.median(out))
 """
+)
 
 
 def per_step_alternating(srcs: dict[str, Path], rounds: int = 5) -> dict[str, float]:
