@@ -1,9 +1,14 @@
 """Sphinx configuration of the dyntorsion replication site."""
 
+import os
 import sys
 from pathlib import Path
 
 from dyntorsion import __version__
+from dyntorsion._numba import NOTICE_VARIABLE
+
+# the notebooks' kernels inherit it: no page shows the one-time compile notice of the build
+os.environ[NOTICE_VARIABLE] = "0"
 
 sys.path.insert(0, str(Path(__file__).parent / "_ext"))
 

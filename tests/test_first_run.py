@@ -153,3 +153,20 @@ def test_the_notice_is_one_whole_line_in_one_write(monkeypatch):
     assert len(stream.writes) == 1
     assert stream.writes[0].endswith("\n") and stream.writes[0].count("\n") == 1
     assert NOTICE in stream.writes[0]
+
+
+def test_the_notice_is_silent_where_the_environment_says_so(tmp_path):
+    """The site's notebooks set DYNTORSION_COMPILE_NOTICE=0: a cold cache compiles, silently."""
+    code = (
+        "import numpy as np\n"
+        "from dyntorsion.genalpha.march import norm_sum\n"
+        "print(norm_sum(np.ones((3, 2)), np.arange(2), 2.0))\n"
+    )
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path), "PYTHONPATH": SRC,
+           _numba.NOTICE_VARIABLE: "0"}  # fmt: skip
+    env.pop("NUMBA_DISABLE_JIT", None)
+    out = subprocess.run(
+        [sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True
+    )
+    assert float(out.stdout) == 6 * np.sqrt(2.0)
+    assert NOTICE not in out.stderr

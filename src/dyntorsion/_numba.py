@@ -181,14 +181,20 @@ def jit(func=None, signature=None, **overrides):
 COLD_COMPILE_SECONDS = 25
 
 
+#: set to ``0`` in the environment to silence the cold-cache notice (the site's notebooks do,
+#: so that a page never shows a one-time message of the machine that built it)
+NOTICE_VARIABLE = "DYNTORSION_COMPILE_NOTICE"
+
+
 class _ColdCacheNotice(event.Listener):
     """Says once per process, on stderr, that the package's kernels are being compiled:
-    numba fires ``numba:compile`` only for a signature missing from the disk cache."""
+    numba fires ``numba:compile`` only for a signature missing from the disk cache.
+    Silent where :data:`NOTICE_VARIABLE` is ``0``."""
 
     said = False
 
     def on_start(self, ev):
-        if self.said:
+        if self.said or os.environ.get(NOTICE_VARIABLE) == "0":
             return
         dispatcher = ev.data.get("dispatcher")
         py_func = getattr(dispatcher, "py_func", None)
